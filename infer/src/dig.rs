@@ -1,0 +1,384 @@
+//! One dig, evaluated with the exact model: every figure of spec §6, the
+//! normalised objective and a per-constraint report.
+//!
+//! The evaluation walks the time grid once. At each sample it advances the
+//! trajectory, carves the segment the tooth tip just swept (so the load in
+//! the bucket grows as material is cut), applies the resistance of the
+//! original surface, solves the inverse dynamics and accumulates power and
+//! energy. Nothing is allocated: the carved window lives in a caller-owned
+//! [`CarveBuffer`].
+
+use crate::config::Config;
+use crate::dynamics::inverse_dynamics;
+use crate::error::{Error, UnknownName, ensure_finite};
+use crate::kinematics::{LinkFrames, check_joint_range, mul_jacobian};
+use crate::math::{PI, atan2};
+use crate::resistance::tip_resistance;
+use crate::terrain::{CarveBuffer, Carver, Terrain};
+use crate::trajectory::{DigParams, JointState, Trajectory};
+use serde::{Deserialize, Serialize};
+
+/// The two dig types of spec §5, told apart by their dig angle θ_p.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DigType {
+    /// Type 1: into the material, θ_p ∈ [40°, 90°].
+    Downward,
+    /// Type 2: along it towards the machine, θ_p ∈ [0°, 40°].
+    Backward,
+}
+
+impl DigType {
+    pub const ALL: [DigType; 2] = [DigType::Downward, DigType::Backward];
+
+    /// The spec's number for the type (1 or 2).
+    pub fn number(self) -> u8 {
+        match self {
+            DigType::Downward => 1,
+            DigType::Backward => 2,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            DigType::Downward => "downward",
+            DigType::Backward => "backward",
+        }
+    }
+}
+
+impl core::str::FromStr for DigType {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self, Error> {
+        match s.trim() {
+            "1" | "downward" | "down" => Ok(DigType::Downward),
+            "2" | "backward" | "back" => Ok(DigType::Backward),
+            other => Err(Error::UnknownDigType(UnknownName::new(other))),
+        }
+    }
+}
+
+impl core::fmt::Display for DigType {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// What a dig must do: its start and end joint angles \[rad\] and its type.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DigTask {
+    pub start: [f64; 3],
+    pub end: [f64; 3],
+    pub kind: DigType,
+}
+
+/// The surface a dig acts on, and where the machine stands on it.
+#[derive(Debug, Clone, Copy)]
+pub struct Ground<'a> {
+    pub terrain: &'a Terrain,
+    /// x of the boom foot in the terrain's frame \[m\].
+    pub base_x: f64,
+}
+
+/// The quantity a constraint bounds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Quantity {
+    JointAngle,
+    JointSpeed,
+    JointAccel,
+    JointTorque,
+    Power,
+    DigAngle,
+    Volume,
+    Duration,
+}
+
+/// One hard constraint of spec §6: the range of values the dig took,
+/// against the allowed range.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Check {
+    pub quantity: Quantity,
+    /// Joint index 0–2 for per-joint quantities.
+    pub joint: Option<u8>,
+    /// Smallest and largest value seen over the dig (SI units).
+    pub min: f64,
+    pub max: f64,
+    pub lower: Option<f64>,
+    pub upper: Option<f64>,
+    /// Size of the allowed range, used to compare violations of different units.
+    pub scale: f64,
+}
+
+impl Check {
+    /// Distance to the nearest bound, negative when violated (SI units).
+    pub fn margin(&self) -> f64 {
+        let lo = self.lower.map_or(f64::INFINITY, |l| self.min - l);
+        let hi = self.upper.map_or(f64::INFINITY, |u| u - self.max);
+        lo.min(hi)
+    }
+
+    /// Violation as a fraction of `scale` (0 when satisfied).
+    pub fn violation(&self) -> f64 {
+        (-self.margin()).max(0.0) / self.scale
+    }
+
+    pub fn ok(&self) -> bool {
+        self.margin() >= 0.0
+    }
+}
+
+impl core::fmt::Display for Check {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let name = match self.quantity {
+            Quantity::JointAngle => "angle",
+            Quantity::JointSpeed => "speed",
+            Quantity::JointAccel => "acceleration",
+            Quantity::JointTorque => "torque",
+            Quantity::Power => "power",
+            Quantity::DigAngle => "dig angle",
+            Quantity::Volume => "volume",
+            Quantity::Duration => "duration",
+        };
+        match self.joint {
+            Some(j) => write!(f, "joint {} {}", j + 1, name),
+            None => f.write_str(name),
+        }
+    }
+}
+
+/// Number of constraints in a [`DigReport`].
+pub const CHECKS: usize = 16;
+
+/// Every figure of one dig under the exact model (SI units).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DigReport {
+    /// T \[s\].
+    pub duration: f64,
+    /// Dug volume V \[m³\].
+    pub volume: f64,
+    /// Drive energy W_E \[J\].
+    pub energy: f64,
+    /// Peak |τ_i| \[N·m\].
+    pub peak_torque: [f64; 3],
+    /// Peak total power P \[W\].
+    pub peak_power: f64,
+    /// Peak |θ̇_i| \[rad/s\].
+    pub peak_speed: [f64; 3],
+    /// Peak |θ̈_i| \[rad/s²\].
+    pub peak_accel: [f64; 3],
+    /// Dig angle θ_p \[rad\] (below horizontal, towards the machine).
+    pub dig_angle: f64,
+    /// λ1 T_t + λ2 E_e + λ3 V_v.
+    pub objective: f64,
+    /// The normalised terms [T_t, E_e, V_v].
+    pub objective_terms: [f64; 3],
+    /// Lowest tooth-tip height over the dig \[m\].
+    pub lowest_tip: f64,
+    pub checks: [Check; CHECKS],
+    /// True when every check holds.
+    pub feasible: bool,
+}
+
+impl DigReport {
+    /// W_E in Wh.
+    pub fn energy_wh(&self) -> f64 {
+        self.energy / 3600.0
+    }
+
+    /// Sum of the normalised violations (0 when feasible).
+    pub fn total_violation(&self) -> f64 {
+        self.checks.iter().map(Check::violation).sum()
+    }
+
+    /// The most violated check, if any.
+    pub fn worst_violation(&self) -> Option<&Check> {
+        self.checks
+            .iter()
+            .filter(|c| !c.ok())
+            .max_by(|a, b| a.violation().total_cmp(&b.violation()))
+    }
+}
+
+/// The state of the arm and the material at one time sample.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Sample {
+    pub t: f64,
+    pub joints: JointState,
+    /// Tooth tip in the terrain frame \[m\].
+    pub tip: [f64; 2],
+    /// Cut depth h below the original surface \[m\].
+    pub depth: f64,
+    /// Resistance on the tip \[N\].
+    pub force: [f64; 2],
+    pub torque: [f64; 3],
+    pub power: f64,
+    /// Volume dug so far \[m³\].
+    pub volume: f64,
+}
+
+/// Evaluates a dig, leaving the carved surface in `scratch` (apply it with
+/// [`Terrain::commit`]).
+pub fn evaluate(
+    cfg: &Config,
+    task: &DigTask,
+    params: &DigParams,
+    ground: Ground<'_>,
+    scratch: &mut CarveBuffer,
+) -> Result<DigReport, Error> {
+    evaluate_with(cfg, task, params, ground, scratch, |_| {})
+}
+
+/// [`evaluate`], calling `on_sample` at every time sample (for plotting,
+/// logging or datasets; a no-op closure costs nothing).
+pub fn evaluate_with(
+    cfg: &Config,
+    task: &DigTask,
+    params: &DigParams,
+    ground: Ground<'_>,
+    scratch: &mut CarveBuffer,
+    mut on_sample: impl FnMut(&Sample),
+) -> Result<DigReport, Error> {
+    let m = &cfg.machine;
+    check_joint_range(m, &task.start)?;
+    check_joint_range(m, &task.end)?;
+    ensure_finite("machine position base_x", &[ground.base_x])?;
+    let traj = Trajectory::new(&task.start, &task.end, params)?;
+    let big_t = params.duration;
+    let n = cfg.time_samples;
+    let dt = big_t / (n - 1) as f64;
+    let width = m.bucket_width;
+    let terrain = ground.terrain;
+
+    let mut carver = Carver::new(terrain, scratch);
+    let mut q_range = [[f64::INFINITY, f64::NEG_INFINITY]; 3];
+    let mut qd_range = q_range;
+    let mut qdd_range = q_range;
+    let mut tau_range = q_range;
+    let mut power_max = 0.0f64;
+    let mut energy = 0.0;
+    let mut prev_power = 0.0;
+    let mut prev_tip = [0.0; 2];
+    let mut lowest = f64::INFINITY;
+
+    for k in 0..n {
+        // The last sample is exactly T, whatever the rounding of k·dt.
+        let t = if k == n - 1 { big_t } else { k as f64 * dt };
+        let js = traj.at(t);
+        let frames = LinkFrames::new(&js.q);
+        let local = frames.tip(&m.link_length);
+        let tip = [local[0] + ground.base_x, local[1]];
+        if k > 0 {
+            carver.cut(prev_tip, tip)?;
+        }
+        prev_tip = tip;
+        lowest = lowest.min(tip[1]);
+        let surface = terrain.height_at(tip[0]).ok_or(Error::OffTerrain { x: tip[0] })?;
+        let depth = (surface - tip[1]).max(0.0);
+        let tip_velocity = mul_jacobian(&frames.jacobian(&m.link_length), &js.qd);
+        let force = tip_resistance(m, &cfg.soil, depth, tip_velocity);
+        let volume = width * carver.area();
+        let torque = inverse_dynamics(m, &frames, &js.qd, &js.qdd, cfg.soil.density * volume, force);
+        let power: f64 = (0..3).map(|i| (torque[i] * js.qd[i]).abs()).sum();
+        for i in 0..3 {
+            widen(&mut q_range[i], js.q[i]);
+            widen(&mut qd_range[i], js.qd[i]);
+            widen(&mut qdd_range[i], js.qdd[i]);
+            widen(&mut tau_range[i], torque[i]);
+        }
+        power_max = power_max.max(power);
+        if k > 0 {
+            energy += 0.5 * (prev_power + power) * dt;
+        }
+        prev_power = power;
+        on_sample(&Sample { t, joints: js, tip, depth, force, torque, power, volume });
+    }
+
+    let volume = width * carver.area();
+    let dig_angle = dig_angle(cfg, task, &traj);
+    let obj = &cfg.objective;
+    let terms = [
+        (big_t - obj.duration[0]) / (obj.duration[1] - obj.duration[0]),
+        (energy / 3600.0 - obj.energy_wh[0]) / (obj.energy_wh[1] - obj.energy_wh[0]),
+        (obj.volume[1] - volume) / (obj.volume[1] - obj.volume[0]),
+    ];
+    let objective = obj.weights[0] * terms[0] + obj.weights[1] * terms[1] + obj.weights[2] * terms[2];
+
+    let angle_range = match task.kind {
+        DigType::Downward => cfg.dig_angle.downward,
+        DigType::Backward => cfg.dig_angle.backward,
+    };
+    let per_joint = |quantity, j: usize, range: [f64; 2], lower: f64, upper: f64| Check {
+        quantity,
+        joint: Some(j as u8),
+        min: range[0],
+        max: range[1],
+        lower: Some(lower),
+        upper: Some(upper),
+        scale: upper - lower,
+    };
+    let interval = |quantity, value: f64, range: [f64; 2]| Check {
+        quantity,
+        joint: None,
+        min: value,
+        max: value,
+        lower: Some(range[0]),
+        upper: Some(range[1]),
+        scale: range[1] - range[0],
+    };
+    let checks: [Check; CHECKS] = core::array::from_fn(|c| match c {
+        0..=2 => per_joint(Quantity::JointAngle, c, q_range[c], m.joint_min[c], m.joint_max[c]),
+        3..=5 => per_joint(Quantity::JointSpeed, c - 3, qd_range[c - 3], -m.max_speed[c - 3], m.max_speed[c - 3]),
+        6..=8 => per_joint(Quantity::JointAccel, c - 6, qdd_range[c - 6], -m.max_accel[c - 6], m.max_accel[c - 6]),
+        9..=11 => per_joint(Quantity::JointTorque, c - 9, tau_range[c - 9], -m.max_torque, m.max_torque),
+        12 => Check {
+            quantity: Quantity::Power,
+            joint: None,
+            min: 0.0,
+            max: power_max,
+            lower: None,
+            upper: Some(m.max_power),
+            scale: m.max_power,
+        },
+        13 => interval(Quantity::DigAngle, dig_angle, angle_range),
+        14 => interval(Quantity::Volume, volume, obj.volume),
+        _ => interval(Quantity::Duration, big_t, obj.duration),
+    });
+    let peak = |r: &[[f64; 2]; 3]| core::array::from_fn(|i| r[i][0].abs().max(r[i][1].abs()));
+    Ok(DigReport {
+        duration: big_t,
+        volume,
+        energy,
+        peak_torque: peak(&tau_range),
+        peak_power: power_max,
+        peak_speed: peak(&qd_range),
+        peak_accel: peak(&qdd_range),
+        dig_angle,
+        objective,
+        objective_terms: terms,
+        lowest_tip: lowest,
+        feasible: checks.iter().all(Check::ok),
+        checks,
+    })
+}
+
+#[inline]
+fn widen(range: &mut [f64; 2], v: f64) {
+    range[0] = range[0].min(v);
+    range[1] = range[1].max(v);
+}
+
+/// θ_p: the angle below the horizontal of the tip's initial direction of
+/// motion, towards the machine (−x), in (−π, π]. That direction is
+/// J(q_s) θ⃛(0). In the degenerate case θ⃛(0) = 0 the motion starts along
+/// the fourth derivative, which is then parallel to J(q_s) Δ.
+pub fn dig_angle(cfg: &Config, task: &DigTask, traj: &Trajectory) -> f64 {
+    let j = LinkFrames::new(&task.start).jacobian(&cfg.machine.link_length);
+    let mut d = mul_jacobian(&j, &traj.initial_jerk());
+    if d[0] * d[0] + d[1] * d[1] < 1e-24 {
+        let delta = core::array::from_fn(|i| task.end[i] - task.start[i]);
+        d = mul_jacobian(&j, &delta);
+    }
+    let a = atan2(-d[1], -d[0]);
+    if a == -PI { PI } else { a }
+}

@@ -1,0 +1,36 @@
+//! The exact excavator model and everything a machine controller needs to
+//! plan digs with it.
+//!
+//! A planar 3R arm (boom, stick, bucket) digs a trench in a height-field
+//! terrain. This crate holds the one physics model of the project
+//! (`shared/spec/excavator.md` §2–6): kinematics, the sixth-order trajectory
+//! family of a dig, rigid-body dynamics with the digging resistance and the
+//! growing load, terrain carving and the dug volume, the dig angle, and one
+//! [`evaluate`] call that returns every figure of a dig with a per-constraint
+//! feasibility report.
+//!
+//! It builds without `std` (`default-features = false`) and never allocates
+//! on the heap: evaluation works in a caller-owned [`CarveBuffer`], so the
+//! optimisers can call it millions of times and a controller can call it in
+//! its control loop. All quantities are SI (m, kg, s, rad, N, W, J, m³).
+#![cfg_attr(not(feature = "std"), no_std)]
+
+pub mod config;
+pub mod dig;
+pub mod dynamics;
+pub mod error;
+pub mod kinematics;
+pub mod math;
+pub mod query;
+pub mod resistance;
+pub mod terrain;
+pub mod trajectory;
+
+pub use config::{Config, DigAngles, Machine, Objective, Soil};
+pub use dig::{Check, DigReport, DigTask, DigType, Ground, Quantity, Sample, evaluate, evaluate_with};
+pub use error::Error;
+pub use kinematics::{Elbow, Pose, forward, inverse, tip_jacobian};
+pub use math::{deg, to_deg};
+pub use query::{DigQuery, QueryRanges};
+pub use terrain::{CarveBuffer, Terrain};
+pub use trajectory::{DigParams, JointState, Trajectory};

@@ -1,0 +1,29 @@
+//! Digging resistance at the tooth tip (spec §3).
+//!
+//! While the tip is h below the surface as it was when the dig began,
+//! W_Q = K0 b h acts against the tip velocity and W_f = μ W_Q perpendicular
+//! to it, on the side that pushes the bucket out of the material (upwards).
+
+use crate::config::{Machine, Soil};
+use crate::kinematics::norm2;
+
+/// Below this tip speed \[m/s\] the direction of motion is undefined and the
+/// (cutting) resistance is taken as zero; it only happens at t = 0 and t = T.
+const MIN_SPEED: f64 = 1e-12;
+
+/// Force \[N\] the material applies to the tooth tip moving at `tip_velocity`
+/// \[m/s\] at `depth` h \[m\] below the original surface.
+#[inline]
+pub fn tip_resistance(machine: &Machine, soil: &Soil, depth: f64, tip_velocity: [f64; 2]) -> [f64; 2] {
+    let speed = norm2(tip_velocity);
+    if depth <= 0.0 || speed < MIN_SPEED {
+        return [0.0; 2];
+    }
+    let w_q = soil.k0 * machine.bucket_width * depth;
+    let w_f = soil.mu * w_q;
+    let t = [tip_velocity[0] / speed, tip_velocity[1] / speed];
+    // Of the two normals (−t_y, t_x) and (t_y, −t_x), the one with n_y ≥ 0.
+    let sign = if t[0] >= 0.0 { 1.0 } else { -1.0 };
+    let n = [-sign * t[1], sign * t[0]];
+    [-w_q * t[0] + w_f * n[0], -w_q * t[1] + w_f * n[1]]
+}

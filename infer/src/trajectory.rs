@@ -1,0 +1,122 @@
+//! The trajectory family of one dig (spec §4): per joint a sixth-order
+//! polynomial with zero velocity and acceleration at both ends,
+//!
+//! θ_i(t) = θ_s,i + Δ_i (10 s³ − 15 s⁴ + 6 s⁵) + a_i6 · t³ (t − T)³,  s = t/T.
+//!
+//! The minimum-jerk quintic takes the joint from start to end; the last term
+//! has triple roots at both ends, so a_i6 bends the path without touching the
+//! boundary conditions.
+
+use crate::error::{Error, ensure_finite};
+use serde::{Deserialize, Serialize};
+
+/// The decision variables of one dig, Y = [a16, a26, a36, T].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DigParams {
+    /// a_i6 \[rad/s⁶\]: how far each joint's path bends away from the quintic.
+    pub a6: [f64; 3],
+    /// Dig duration T \[s\].
+    pub duration: f64,
+}
+
+impl DigParams {
+    /// As the vector Y = [a16, a26, a36, T].
+    pub fn to_array(&self) -> [f64; 4] {
+        [self.a6[0], self.a6[1], self.a6[2], self.duration]
+    }
+
+    pub fn from_array(y: [f64; 4]) -> Self {
+        DigParams { a6: [y[0], y[1], y[2]], duration: y[3] }
+    }
+}
+
+/// Joint angles \[rad\], velocities \[rad/s\] and accelerations \[rad/s²\] at one instant.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct JointState {
+    pub q: [f64; 3],
+    pub qd: [f64; 3],
+    pub qdd: [f64; 3],
+}
+
+/// One dig's joint trajectory, ready to sample.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Trajectory {
+    start: [f64; 3],
+    delta: [f64; 3],
+    a6: [f64; 3],
+    duration: f64,
+}
+
+impl Trajectory {
+    /// Builds the trajectory from start to end joint angles \[rad\].
+    pub fn new(start: &[f64; 3], end: &[f64; 3], params: &DigParams) -> Result<Self, Error> {
+        ensure_finite("start joint angle", start)?;
+        ensure_finite("end joint angle", end)?;
+        ensure_finite("a_i6", &params.a6)?;
+        ensure_finite("duration T", &[params.duration])?;
+        if params.duration <= 0.0 {
+            return Err(Error::DurationNotPositive(params.duration));
+        }
+        Ok(Trajectory {
+            start: *start,
+            delta: [end[0] - start[0], end[1] - start[1], end[2] - start[2]],
+            a6: params.a6,
+            duration: params.duration,
+        })
+    }
+
+    pub fn duration(&self) -> f64 {
+        self.duration
+    }
+
+    /// Angles, velocities and accelerations at time `t` ∈ [0, T].
+    #[inline]
+    pub fn at(&self, t: f64) -> JointState {
+        let big_t = self.duration;
+        let s = t / big_t;
+        let (s2, s3) = (s * s, s * s * s);
+        // Quintic blend p(s) and its time derivatives.
+        let p = s3 * (10.0 - 15.0 * s + 6.0 * s2);
+        let pd = 30.0 * s2 * (1.0 - 2.0 * s + s2) / big_t;
+        let pdd = 60.0 * s * (1.0 - 3.0 * s + 2.0 * s2) / (big_t * big_t);
+        // Bending term q(t) = u³ with u = t (t − T); q' = 3u²u', q'' = 6u u'² + 6u².
+        let u = t * (t - big_t);
+        let ud = 2.0 * t - big_t;
+        let b = u * u * u;
+        let bd = 3.0 * u * u * ud;
+        let bdd = 6.0 * u * (ud * ud + u);
+        let mut st = JointState::default();
+        for i in 0..3 {
+            st.q[i] = self.start[i] + self.delta[i] * p + self.a6[i] * b;
+            st.qd[i] = self.delta[i] * pd + self.a6[i] * bd;
+            st.qdd[i] = self.delta[i] * pdd + self.a6[i] * bdd;
+        }
+        st
+    }
+
+    /// Joint jerk at t = 0, θ⃛_i(0) = 6 a_i3 = 60 Δ_i / T³ − 6 a_i6 T³ \[rad/s³\].
+    /// Velocity and acceleration vanish there, so this fixes the initial
+    /// direction of motion.
+    pub fn initial_jerk(&self) -> [f64; 3] {
+        let t3 = self.duration * self.duration * self.duration;
+        core::array::from_fn(|i| 60.0 * self.delta[i] / t3 - 6.0 * self.a6[i] * t3)
+    }
+
+    /// Power-basis coefficients a_i0 … a_i6 of each joint, θ_i(t) = Σ_k a_ik t^k.
+    pub fn coefficients(&self) -> [[f64; 7]; 3] {
+        let t = self.duration;
+        let (t2, t3) = (t * t, t * t * t);
+        core::array::from_fn(|i| {
+            let (d, a6) = (self.delta[i], self.a6[i]);
+            [
+                self.start[i],
+                0.0,
+                0.0,
+                10.0 * d / t3 - a6 * t3,
+                -15.0 * d / (t3 * t) + 3.0 * a6 * t2,
+                6.0 * d / (t3 * t2) - 3.0 * a6 * t,
+                a6,
+            ]
+        })
+    }
+}
