@@ -80,7 +80,11 @@ pub struct Soil {
 
 impl Default for Soil {
     fn default() -> Self {
-        Soil { k0: 5.0e4, mu: 0.40, density: 1000.0 }
+        Soil {
+            k0: 5.0e4,
+            mu: 0.40,
+            density: 1000.0,
+        }
     }
 }
 
@@ -122,7 +126,10 @@ pub struct DigAngles {
 
 impl Default for DigAngles {
     fn default() -> Self {
-        DigAngles { downward: [deg(40.0), deg(90.0)], backward: [0.0, deg(40.0)] }
+        DigAngles {
+            downward: [deg(40.0), deg(90.0)],
+            backward: [0.0, deg(40.0)],
+        }
     }
 }
 
@@ -168,33 +175,67 @@ impl Config {
         let positive = |v: f64| v.is_finite() && v > 0.0;
         let finite = |v: f64| v.is_finite();
         let checks: [(&'static str, bool); 16] = [
-            ("machine.link_length", m.link_length.iter().all(|&v| positive(v))),
+            (
+                "machine.link_length",
+                m.link_length.iter().all(|&v| positive(v)),
+            ),
             (
                 "machine.joint_min/joint_max",
-                (0..3).all(|i| finite(m.joint_min[i]) && finite(m.joint_max[i]) && m.joint_min[i] < m.joint_max[i]),
+                (0..3).all(|i| {
+                    finite(m.joint_min[i])
+                        && finite(m.joint_max[i])
+                        && m.joint_min[i] < m.joint_max[i]
+                }),
             ),
-            ("machine.max_speed", m.max_speed.iter().all(|&v| positive(v))),
-            ("machine.max_accel", m.max_accel.iter().all(|&v| positive(v))),
+            (
+                "machine.max_speed",
+                m.max_speed.iter().all(|&v| positive(v)),
+            ),
+            (
+                "machine.max_accel",
+                m.max_accel.iter().all(|&v| positive(v)),
+            ),
             ("machine.max_torque", positive(m.max_torque)),
             ("machine.max_power", positive(m.max_power)),
             ("machine.bucket_width", positive(m.bucket_width)),
-            ("machine.link_mass", m.link_mass.iter().all(|&v| positive(v))),
-            ("machine.com_fraction", m.com_fraction.iter().all(|&v| finite(v) && (0.0..=1.0).contains(&v))),
-            ("machine.link_inertia", m.link_inertia.iter().all(|&v| finite(v) && v >= 0.0)),
+            (
+                "machine.link_mass",
+                m.link_mass.iter().all(|&v| positive(v)),
+            ),
+            (
+                "machine.com_fraction",
+                m.com_fraction
+                    .iter()
+                    .all(|&v| finite(v) && (0.0..=1.0).contains(&v)),
+            ),
+            (
+                "machine.link_inertia",
+                m.link_inertia.iter().all(|&v| finite(v) && v >= 0.0),
+            ),
             ("machine.gravity", finite(m.gravity) && m.gravity >= 0.0),
             (
                 "soil",
-                positive(self.soil.k0) && finite(self.soil.mu) && self.soil.mu >= 0.0 && finite(self.soil.density) && self.soil.density >= 0.0,
+                positive(self.soil.k0)
+                    && finite(self.soil.mu)
+                    && self.soil.mu >= 0.0
+                    && finite(self.soil.density)
+                    && self.soil.density >= 0.0,
             ),
             (
                 "objective",
-                self.objective.weights.iter().all(|&w| finite(w) && w >= 0.0)
+                self.objective
+                    .weights
+                    .iter()
+                    .all(|&w| finite(w) && w >= 0.0)
                     && range_ok(self.objective.duration)
                     && self.objective.duration[0] > 0.0
                     && range_ok(self.objective.energy_wh)
                     && range_ok(self.objective.volume),
             ),
-            ("dig_angle", range_ok(self.dig_angle.downward) && range_ok(self.dig_angle.backward)),
+            (
+                "dig_angle",
+                range_ok(self.dig_angle.downward) && range_ok(self.dig_angle.backward),
+            ),
             ("ground_level", finite(self.ground_level)),
             (
                 "time_samples/terrain_dx",

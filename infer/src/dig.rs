@@ -2,7 +2,7 @@
 //! normalised objective and a per-constraint report.
 //!
 //! The evaluation walks the time grid once. At each sample it advances the
-//! trajectory, carves the segment the tooth tip just swept (so the load in
+//! trajectory, carves the step the tooth tip just swept (so the load in
 //! the bucket grows as material is cut), applies the resistance of the
 //! original surface, solves the inverse dynamics and accumulates power and
 //! energy. Nothing is allocated: the carved window lives in a caller-owned
@@ -259,6 +259,7 @@ pub fn evaluate_with(
     let mut energy = 0.0;
     let mut prev_power = 0.0;
     let mut prev_tip = [0.0; 2];
+    let mut prev_velocity = [0.0; 2];
     let mut lowest = f64::INFINITY;
 
     for k in 0..n {
@@ -268,17 +269,34 @@ pub fn evaluate_with(
         let frames = LinkFrames::new(&js.q);
         let local = frames.tip(&m.link_length);
         let tip = [local[0] + ground.base_x, local[1]];
+        let tip_velocity = mul_jacobian(&frames.jacobian(&m.link_length), &js.qd);
         if k > 0 {
-            carver.cut(prev_tip, tip)?;
+            // Carve through the cubic-Hermite midpoint of the step, so the
+            // swept path is exact to O(dt⁴) rather than the chord's O(dt²).
+            let mid: [f64; 2] = core::array::from_fn(|i| {
+                0.5 * (prev_tip[i] + tip[i]) + dt / 8.0 * (prev_velocity[i] - tip_velocity[i])
+            });
+            carver.cut(prev_tip, mid)?;
+            carver.cut(mid, tip)?;
+            lowest = lowest.min(mid[1]);
         }
         prev_tip = tip;
+        prev_velocity = tip_velocity;
         lowest = lowest.min(tip[1]);
-        let surface = terrain.height_at(tip[0]).ok_or(Error::OffTerrain { x: tip[0] })?;
+        let surface = terrain
+            .height_at(tip[0])
+            .ok_or(Error::OffTerrain { x: tip[0] })?;
         let depth = (surface - tip[1]).max(0.0);
-        let tip_velocity = mul_jacobian(&frames.jacobian(&m.link_length), &js.qd);
         let force = tip_resistance(m, &cfg.soil, depth, tip_velocity);
         let volume = width * carver.area();
-        let torque = inverse_dynamics(m, &frames, &js.qd, &js.qdd, cfg.soil.density * volume, force);
+        let torque = inverse_dynamics(
+            m,
+            &frames,
+            &js.qd,
+            &js.qdd,
+            cfg.soil.density * volume,
+            force,
+        );
         let power: f64 = (0..3).map(|i| (torque[i] * js.qd[i]).abs()).sum();
         for i in 0..3 {
             widen(&mut q_range[i], js.q[i]);
@@ -291,7 +309,16 @@ pub fn evaluate_with(
             energy += 0.5 * (prev_power + power) * dt;
         }
         prev_power = power;
-        on_sample(&Sample { t, joints: js, tip, depth, force, torque, power, volume });
+        on_sample(&Sample {
+            t,
+            joints: js,
+            tip,
+            depth,
+            force,
+            torque,
+            power,
+            volume,
+        });
     }
 
     let volume = width * carver.area();
@@ -302,7 +329,8 @@ pub fn evaluate_with(
         (energy / 3600.0 - obj.energy_wh[0]) / (obj.energy_wh[1] - obj.energy_wh[0]),
         (obj.volume[1] - volume) / (obj.volume[1] - obj.volume[0]),
     ];
-    let objective = obj.weights[0] * terms[0] + obj.weights[1] * terms[1] + obj.weights[2] * terms[2];
+    let objective =
+        obj.weights[0] * terms[0] + obj.weights[1] * terms[1] + obj.weights[2] * terms[2];
 
     let angle_range = match task.kind {
         DigType::Downward => cfg.dig_angle.downward,
@@ -327,10 +355,34 @@ pub fn evaluate_with(
         scale: range[1] - range[0],
     };
     let checks: [Check; CHECKS] = core::array::from_fn(|c| match c {
-        0..=2 => per_joint(Quantity::JointAngle, c, q_range[c], m.joint_min[c], m.joint_max[c]),
-        3..=5 => per_joint(Quantity::JointSpeed, c - 3, qd_range[c - 3], -m.max_speed[c - 3], m.max_speed[c - 3]),
-        6..=8 => per_joint(Quantity::JointAccel, c - 6, qdd_range[c - 6], -m.max_accel[c - 6], m.max_accel[c - 6]),
-        9..=11 => per_joint(Quantity::JointTorque, c - 9, tau_range[c - 9], -m.max_torque, m.max_torque),
+        0..=2 => per_joint(
+            Quantity::JointAngle,
+            c,
+            q_range[c],
+            m.joint_min[c],
+            m.joint_max[c],
+        ),
+        3..=5 => per_joint(
+            Quantity::JointSpeed,
+            c - 3,
+            qd_range[c - 3],
+            -m.max_speed[c - 3],
+            m.max_speed[c - 3],
+        ),
+        6..=8 => per_joint(
+            Quantity::JointAccel,
+            c - 6,
+            qdd_range[c - 6],
+            -m.max_accel[c - 6],
+            m.max_accel[c - 6],
+        ),
+        9..=11 => per_joint(
+            Quantity::JointTorque,
+            c - 9,
+            tau_range[c - 9],
+            -m.max_torque,
+            m.max_torque,
+        ),
         12 => Check {
             quantity: Quantity::Power,
             joint: None,

@@ -41,7 +41,11 @@ fn rne(
 ) -> [f64; 3] {
     let l = &machine.link_length;
     let u = &frames.u;
-    let mass = [machine.link_mass[0], machine.link_mass[1], machine.link_mass[2] + load];
+    let mass = [
+        machine.link_mass[0],
+        machine.link_mass[1],
+        machine.link_mass[2] + load,
+    ];
     // Forward pass: absolute angular rates and the acceleration of each
     // link's centre of mass (a_c) from its proximal joint's (a_prev).
     let mut omega = 0.0;
@@ -77,7 +81,10 @@ fn rne(
             + tau_next
             + mass[i] * r * cross(u[i], a_com[i])
             + l[i] * cross(u[i], f_next);
-        f_next = [mass[i] * a_com[i][0] + f_next[0], mass[i] * a_com[i][1] + f_next[1]];
+        f_next = [
+            mass[i] * a_com[i][0] + f_next[0],
+            mass[i] * a_com[i][1] + f_next[1],
+        ];
         tau[i] = t;
         tau_next = t;
     }
@@ -101,7 +108,15 @@ pub fn mass_matrix(machine: &Machine, q: &[f64; 3], load: f64) -> [[f64; 3]; 3] 
 
 /// Velocity and gravity torques C(q, q̇) q̇ + G(q).
 pub fn bias_torque(machine: &Machine, q: &[f64; 3], qd: &[f64; 3], load: f64) -> [f64; 3] {
-    rne(machine, &LinkFrames::new(q), qd, &[0.0; 3], machine.gravity, load, [0.0; 2])
+    rne(
+        machine,
+        &LinkFrames::new(q),
+        qd,
+        &[0.0; 3],
+        machine.gravity,
+        load,
+        [0.0; 2],
+    )
 }
 
 /// Kinetic plus potential energy of the arm \[J\] (potential zero at y = 0).
@@ -115,7 +130,11 @@ pub fn mechanical_energy(machine: &Machine, q: &[f64; 3], qd: &[f64; 3], load: f
     }
     let frames = LinkFrames::new(q);
     let l = &machine.link_length;
-    let mass = [machine.link_mass[0], machine.link_mass[1], machine.link_mass[2] + load];
+    let mass = [
+        machine.link_mass[0],
+        machine.link_mass[1],
+        machine.link_mass[2] + load,
+    ];
     let mut y_joint = 0.0;
     let mut potential = 0.0;
     for i in 0..3 {

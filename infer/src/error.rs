@@ -9,10 +9,17 @@ pub enum Error {
     #[error("dig duration T = {0} s must be positive")]
     DurationNotPositive(f64),
     #[error("joint {joint} angle {angle_deg:.3}° is outside its range [{min_deg:.1}°, {max_deg:.1}°]", joint = joint + 1)]
-    JointOutOfRange { joint: usize, angle_deg: f64, min_deg: f64, max_deg: f64 },
+    JointOutOfRange {
+        joint: usize,
+        angle_deg: f64,
+        min_deg: f64,
+        max_deg: f64,
+    },
     #[error("pose (x = {x:.4} m, y = {y:.4} m) is out of the arm's reach")]
     Unreachable { x: f64, y: f64 },
-    #[error("pose (x = {x:.4} m, y = {y:.4} m, ζ = {zeta_deg:.2}°) is reachable only with joint angles outside their ranges")]
+    #[error(
+        "pose (x = {x:.4} m, y = {y:.4} m, ζ = {zeta_deg:.2}°) is reachable only with joint angles outside their ranges"
+    )]
     NoValidBranch { x: f64, y: f64, zeta_deg: f64 },
     #[error("unknown dig type `{0}` (expected 1/downward or 2/backward)")]
     UnknownDigType(UnknownName),
@@ -69,5 +76,9 @@ impl core::fmt::Display for UnknownName {
 
 /// Returns `NonFinite` for the first non-finite value.
 pub(crate) fn ensure_finite(what: &'static str, values: &[f64]) -> Result<(), Error> {
-    if values.iter().all(|v| v.is_finite()) { Ok(()) } else { Err(Error::NonFinite { what }) }
+    if values.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(Error::NonFinite { what })
+    }
 }

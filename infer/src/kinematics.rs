@@ -68,7 +68,11 @@ impl LinkFrames {
 /// Tooth-tip pose of joint angles `q`.
 pub fn forward(machine: &Machine, q: &[f64; 3]) -> Pose {
     let p = LinkFrames::new(q).tip(&machine.link_length);
-    Pose { x: p[0], y: p[1], zeta: wrap_angle(q[0] + q[1] + q[2]) }
+    Pose {
+        x: p[0],
+        y: p[1],
+        zeta: wrap_angle(q[0] + q[1] + q[2]),
+    }
 }
 
 /// Tooth-tip Jacobian at `q`.
@@ -111,7 +115,10 @@ pub fn inverse(machine: &Machine, pose: &Pose, elbow: Elbow) -> Result<[f64; 3],
     let wy = pose.y - l3 * sz;
     let c2 = (wx * wx + wy * wy - l1 * l1 - l2 * l2) / (2.0 * l1 * l2);
     if !(-1.0..=1.0).contains(&c2) {
-        return Err(Error::Unreachable { x: pose.x, y: pose.y });
+        return Err(Error::Unreachable {
+            x: pose.x,
+            y: pose.y,
+        });
     }
     let t2 = acos(c2);
     let solve = |theta2: f64| {
@@ -129,7 +136,11 @@ pub fn inverse(machine: &Machine, pose: &Pose, elbow: Elbow) -> Result<[f64; 3],
         .iter()
         .map(|&t| solve(t))
         .find(|q| check_joint_range(machine, q).is_ok())
-        .ok_or(Error::NoValidBranch { x: pose.x, y: pose.y, zeta_deg: to_deg(pose.zeta) })
+        .ok_or(Error::NoValidBranch {
+            x: pose.x,
+            y: pose.y,
+            zeta_deg: to_deg(pose.zeta),
+        })
 }
 
 /// Error if any angle of `q` is non-finite or outside its joint range.

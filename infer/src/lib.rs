@@ -27,7 +27,9 @@ pub mod terrain;
 pub mod trajectory;
 
 pub use config::{Config, DigAngles, Machine, Objective, Soil};
-pub use dig::{Check, DigReport, DigTask, DigType, Ground, Quantity, Sample, evaluate, evaluate_with};
+pub use dig::{
+    Check, DigReport, DigTask, DigType, Ground, Quantity, Sample, evaluate, evaluate_with,
+};
 pub use error::Error;
 pub use kinematics::{Elbow, Pose, forward, inverse, tip_jacobian};
 pub use math::{deg, to_deg};

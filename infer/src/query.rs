@@ -24,7 +24,13 @@ pub struct DigQuery {
 
 impl DigQuery {
     /// Builds a query from tooth-tip poses, solving inverse kinematics.
-    pub fn from_poses(cfg: &Config, start: &Pose, end: &Pose, surface: f64, kind: DigType) -> Result<Self, Error> {
+    pub fn from_poses(
+        cfg: &Config,
+        start: &Pose,
+        end: &Pose,
+        surface: f64,
+        kind: DigType,
+    ) -> Result<Self, Error> {
         ensure_finite("surface height H", &[surface])?;
         Ok(DigQuery {
             start: inverse(&cfg.machine, start, Elbow::Auto)?,
@@ -48,7 +54,11 @@ impl DigQuery {
     }
 
     pub fn task(&self) -> DigTask {
-        DigTask { start: self.start, end: self.end, kind: self.kind }
+        DigTask {
+            start: self.start,
+            end: self.end,
+            kind: self.kind,
+        }
     }
 }
 
@@ -119,8 +129,16 @@ impl QueryRanges {
         let r = self.of(kind);
         let surface = lerp(self.surface, u[0]);
         let start_x = lerp(r.start_x, u[1]);
-        let start = Pose { x: start_x, y: surface, zeta: lerp(r.start_zeta, u[4]) };
-        let end = Pose { x: start_x - lerp(r.chord, u[2]), y: surface + lerp(r.end_lift, u[3]), zeta: lerp(r.end_zeta, u[5]) };
+        let start = Pose {
+            x: start_x,
+            y: surface,
+            zeta: lerp(r.start_zeta, u[4]),
+        };
+        let end = Pose {
+            x: start_x - lerp(r.chord, u[2]),
+            y: surface + lerp(r.end_lift, u[3]),
+            zeta: lerp(r.end_zeta, u[5]),
+        };
         DigQuery::from_poses(cfg, &start, &end, surface, kind)
     }
 }

@@ -24,7 +24,11 @@ pub struct Terrain {
 
 impl core::fmt::Debug for Terrain {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.debug_struct("Terrain").field("x0", &self.x0).field("dx", &self.dx).field("len", &self.len).finish()
+        f.debug_struct("Terrain")
+            .field("x0", &self.x0)
+            .field("dx", &self.dx)
+            .field("len", &self.len)
+            .finish()
     }
 }
 
@@ -37,9 +41,17 @@ impl Terrain {
         }
         let nodes = ceil((x1 - x0) / dx) as usize + 1;
         if nodes > TERRAIN_CAPACITY {
-            return Err(Error::TerrainTooLarge { nodes, capacity: TERRAIN_CAPACITY });
+            return Err(Error::TerrainTooLarge {
+                nodes,
+                capacity: TERRAIN_CAPACITY,
+            });
         }
-        Ok(Terrain { x0, dx, len: nodes, h: [height; TERRAIN_CAPACITY] })
+        Ok(Terrain {
+            x0,
+            dx,
+            len: nodes,
+            h: [height; TERRAIN_CAPACITY],
+        })
     }
 
     /// A terrain with the given node heights.
@@ -47,12 +59,22 @@ impl Terrain {
         ensure_finite("terrain origin or spacing", &[x0, dx])?;
         ensure_finite("terrain height", heights)?;
         if dx <= 0.0 || heights.len() < 2 {
-            return Err(Error::BadTerrain("needs at least two nodes and a positive spacing"));
+            return Err(Error::BadTerrain(
+                "needs at least two nodes and a positive spacing",
+            ));
         }
         if heights.len() > TERRAIN_CAPACITY {
-            return Err(Error::TerrainTooLarge { nodes: heights.len(), capacity: TERRAIN_CAPACITY });
+            return Err(Error::TerrainTooLarge {
+                nodes: heights.len(),
+                capacity: TERRAIN_CAPACITY,
+            });
         }
-        let mut t = Terrain { x0, dx, len: heights.len(), h: [0.0; TERRAIN_CAPACITY] };
+        let mut t = Terrain {
+            x0,
+            dx,
+            len: heights.len(),
+            h: [0.0; TERRAIN_CAPACITY],
+        };
         t.h[..heights.len()].copy_from_slice(heights);
         Ok(t)
     }
@@ -101,7 +123,11 @@ impl Terrain {
     /// Carves the polyline `points` (terrain frame) into the surface and
     /// returns the cross-section area removed \[m²\] (multiply by the bucket
     /// width for the volume).
-    pub fn carve_path(&mut self, points: &[[f64; 2]], scratch: &mut CarveBuffer) -> Result<f64, Error> {
+    pub fn carve_path(
+        &mut self,
+        points: &[[f64; 2]],
+        scratch: &mut CarveBuffer,
+    ) -> Result<f64, Error> {
         let mut carver = Carver::new(self, scratch);
         for w in points.windows(2) {
             carver.cut(w[0], w[1])?;
@@ -124,7 +150,10 @@ impl Terrain {
     /// node on the shared grid (trapezoid rule on a piecewise-linear surface).
     pub fn area_below(&self, other: &Terrain) -> f64 {
         let n = self.len.min(other.len);
-        (0..n).map(|j| (other.h[j] - self.h[j]).max(0.0)).sum::<f64>() * self.dx
+        (0..n)
+            .map(|j| (other.h[j] - self.h[j]).max(0.0))
+            .sum::<f64>()
+            * self.dx
     }
 }
 
@@ -139,13 +168,20 @@ pub struct CarveBuffer {
 
 impl Default for CarveBuffer {
     fn default() -> Self {
-        CarveBuffer { buf: [0.0; TERRAIN_CAPACITY], lo: 0, hi: 0 }
+        CarveBuffer {
+            buf: [0.0; TERRAIN_CAPACITY],
+            lo: 0,
+            hi: 0,
+        }
     }
 }
 
 impl core::fmt::Debug for CarveBuffer {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.debug_struct("CarveBuffer").field("lo", &self.lo).field("hi", &self.hi).finish()
+        f.debug_struct("CarveBuffer")
+            .field("lo", &self.lo)
+            .field("hi", &self.hi)
+            .finish()
     }
 }
 
@@ -162,7 +198,11 @@ impl<'a> Carver<'a> {
     pub(crate) fn new(terrain: &'a Terrain, scratch: &'a mut CarveBuffer) -> Self {
         scratch.lo = 0;
         scratch.hi = 0;
-        Carver { terrain, scratch, removed: 0.0 }
+        Carver {
+            terrain,
+            scratch,
+            removed: 0.0,
+        }
     }
 
     /// Area removed so far \[m²\].
@@ -175,10 +215,16 @@ impl<'a> Carver<'a> {
     #[inline]
     pub(crate) fn cut(&mut self, a: [f64; 2], b: [f64; 2]) -> Result<(), Error> {
         let t = self.terrain;
-        let (xl, xr) = if a[0] <= b[0] { (a[0], b[0]) } else { (b[0], a[0]) };
+        let (xl, xr) = if a[0] <= b[0] {
+            (a[0], b[0])
+        } else {
+            (b[0], a[0])
+        };
         let last = t.x_end();
         if xl < t.x0 || xr > last {
-            return Err(Error::OffTerrain { x: if xl < t.x0 { xl } else { xr } });
+            return Err(Error::OffTerrain {
+                x: if xl < t.x0 { xl } else { xr },
+            });
         }
         let j0 = ceil((xl - t.x0) / t.dx) as usize;
         let j1 = (floor((xr - t.x0) / t.dx) as usize).min(t.len - 1);

@@ -26,7 +26,10 @@ impl DigParams {
     }
 
     pub fn from_array(y: [f64; 4]) -> Self {
-        DigParams { a6: [y[0], y[1], y[2]], duration: y[3] }
+        DigParams {
+            a6: [y[0], y[1], y[2]],
+            duration: y[3],
+        }
     }
 }
 

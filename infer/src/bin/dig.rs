@@ -4,17 +4,32 @@
 //! one JSON object with `--json`.
 
 use clap::Parser;
-use infer::{CarveBuffer, Config, DigParams, DigTask, DigType, Elbow, Ground, Pose, Terrain, deg, to_deg};
+use infer::{
+    CarveBuffer, Config, DigParams, DigTask, DigType, Elbow, Ground, Pose, Terrain, deg, to_deg,
+};
 use std::process::ExitCode;
 
 #[derive(Parser, Debug)]
-#[command(about = "Evaluate one dig of the excavator arm with the exact model", allow_negative_numbers = true)]
+#[command(
+    about = "Evaluate one dig of the excavator arm with the exact model",
+    allow_negative_numbers = true
+)]
 struct Args {
     /// Start joint angles θ1,θ2,θ3 in degrees.
-    #[arg(long, value_delimiter = ',', required_unless_present = "start_pose", conflicts_with = "start_pose")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        required_unless_present = "start_pose",
+        conflicts_with = "start_pose"
+    )]
     start: Option<Vec<f64>>,
     /// End joint angles θ1,θ2,θ3 in degrees.
-    #[arg(long, value_delimiter = ',', required_unless_present = "end_pose", conflicts_with = "end_pose")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        required_unless_present = "end_pose",
+        conflicts_with = "end_pose"
+    )]
     end: Option<Vec<f64>>,
     /// Start as a tooth-tip pose x,y (m),ζ (degrees), solved by inverse kinematics.
     #[arg(long, value_delimiter = ',')]
@@ -52,18 +67,48 @@ fn main() -> ExitCode {
     }
 }
 
+/// A check's margin in the units a person reads (degrees, cm³, …).
+fn display_margin(c: &infer::Check) -> (f64, &'static str) {
+    use infer::Quantity::*;
+    let m = c.margin();
+    match c.quantity {
+        JointAngle | DigAngle => (to_deg(m), "°"),
+        JointSpeed => (to_deg(m), "°/s"),
+        JointAccel => (to_deg(m), "°/s²"),
+        JointTorque => (m, "N·m"),
+        Power => (m, "W"),
+        Volume => (m * 1e6, "cm³"),
+        Duration => (m, "s"),
+    }
+}
+
 fn three(name: &str, v: &Option<Vec<f64>>) -> Result<(), String> {
     match v {
-        Some(v) if v.len() != 3 => Err(format!("--{name} takes three comma-separated numbers, got {}", v.len())),
+        Some(v) if v.len() != 3 => Err(format!(
+            "--{name} takes three comma-separated numbers, got {}",
+            v.len()
+        )),
         _ => Ok(()),
     }
 }
 
-fn joints(cfg: &Config, angles: &Option<Vec<f64>>, pose: &Option<Vec<f64>>) -> Result<[f64; 3], String> {
+fn joints(
+    cfg: &Config,
+    angles: &Option<Vec<f64>>,
+    pose: &Option<Vec<f64>>,
+) -> Result<[f64; 3], String> {
     match (angles, pose) {
         (Some(a), _) => Ok([deg(a[0]), deg(a[1]), deg(a[2])]),
-        (None, Some(p)) => infer::inverse(&cfg.machine, &Pose { x: p[0], y: p[1], zeta: deg(p[2]) }, Elbow::Auto)
-            .map_err(|e| e.to_string()),
+        (None, Some(p)) => infer::inverse(
+            &cfg.machine,
+            &Pose {
+                x: p[0],
+                y: p[1],
+                zeta: deg(p[2]),
+            },
+            Elbow::Auto,
+        )
+        .map_err(|e| e.to_string()),
         (None, None) => Err("give joint angles or a pose".into()),
     }
 }
@@ -71,13 +116,19 @@ fn joints(cfg: &Config, angles: &Option<Vec<f64>>, pose: &Option<Vec<f64>>) -> R
 fn run(args: Args) -> Result<(), String> {
     let cfg: Config = match &args.config {
         Some(path) => {
-            let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+            let text =
+                std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
             serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?
         }
         None => Config::default(),
     };
     cfg.validate().map_err(|e| e.to_string())?;
-    for (name, v) in [("start", &args.start), ("end", &args.end), ("start-pose", &args.start_pose), ("end-pose", &args.end_pose)] {
+    for (name, v) in [
+        ("start", &args.start),
+        ("end", &args.end),
+        ("start-pose", &args.start_pose),
+        ("end-pose", &args.end_pose),
+    ] {
         three(name, v)?;
     }
     three("a6", &Some(args.a6.clone()))?;
@@ -87,13 +138,26 @@ fn run(args: Args) -> Result<(), String> {
         end: joints(&cfg, &args.end, &args.end_pose)?,
         kind,
     };
-    let params = DigParams { a6: [args.a6[0], args.a6[1], args.a6[2]], duration: args.duration };
+    let params = DigParams {
+        a6: [args.a6[0], args.a6[1], args.a6[2]],
+        duration: args.duration,
+    };
     let surface = args.surface.unwrap_or(cfg.ground_level);
     let reach = infer::kinematics::max_reach(&cfg.machine);
-    let terrain = Terrain::flat(-reach - 0.1, reach + 0.1, cfg.terrain_dx, surface).map_err(|e| e.to_string())?;
-    let mut scratch = CarveBuffer::default();
-    let report = infer::evaluate(&cfg, &task, &params, Ground { terrain: &terrain, base_x: 0.0 }, &mut scratch)
+    let terrain = Terrain::flat(-reach - 0.1, reach + 0.1, cfg.terrain_dx, surface)
         .map_err(|e| e.to_string())?;
+    let mut scratch = CarveBuffer::default();
+    let report = infer::evaluate(
+        &cfg,
+        &task,
+        &params,
+        Ground {
+            terrain: &terrain,
+            base_x: 0.0,
+        },
+        &mut scratch,
+    )
+    .map_err(|e| e.to_string())?;
 
     if args.json {
         let checks: Vec<_> = report
@@ -120,15 +184,27 @@ fn run(args: Args) -> Result<(), String> {
             "checks": checks,
             "report_si": report,
         });
-        println!("{}", serde_json::to_string_pretty(&out).map_err(|e| e.to_string())?);
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&out).map_err(|e| e.to_string())?
+        );
         return Ok(());
     }
 
     let f3 = |v: [f64; 3], k: f64| format!("{:8.2} {:8.2} {:8.2}", v[0] * k, v[1] * k, v[2] * k);
     println!("dig type        {kind} (type {})", kind.number());
-    println!("start θ (°)     {}", f3(task.start, 180.0 / std::f64::consts::PI));
-    println!("end θ (°)       {}", f3(task.end, 180.0 / std::f64::consts::PI));
-    println!("a_i6 (rad/s⁶)   {:.4e} {:.4e} {:.4e}", params.a6[0], params.a6[1], params.a6[2]);
+    println!(
+        "start θ (°)     {}",
+        f3(task.start, 180.0 / std::f64::consts::PI)
+    );
+    println!(
+        "end θ (°)       {}",
+        f3(task.end, 180.0 / std::f64::consts::PI)
+    );
+    println!(
+        "a_i6 (rad/s⁶)   {:.4e} {:.4e} {:.4e}",
+        params.a6[0], params.a6[1], params.a6[2]
+    );
     println!("surface H (m)   {surface:.3}");
     println!();
     println!("T (s)           {:.3}", report.duration);
@@ -140,13 +216,26 @@ fn run(args: Args) -> Result<(), String> {
     println!("peak |θ̈| (°/s²) {}", f3(report.peak_accel.map(to_deg), 1.0));
     println!("θ_p (°)         {:.2}", to_deg(report.dig_angle));
     let t = report.objective_terms;
-    println!("objective       {:.4}  (T_t {:.3}, E_e {:.3}, V_v {:.3})", report.objective, t[0], t[1], t[2]);
+    println!(
+        "objective       {:.4}  (T_t {:.3}, E_e {:.3}, V_v {:.3})",
+        report.objective, t[0], t[1], t[2]
+    );
     println!();
-    println!("{:<24} {:>12}  verdict", "constraint", "margin");
+    println!("{:<24} {:>12} {:<7} verdict", "constraint", "margin", "");
     for c in &report.checks {
-        println!("{:<24} {:>12.4e}  {}", c.to_string(), c.margin(), if c.ok() { "ok" } else { "VIOLATED" });
+        let (value, unit) = display_margin(c);
+        println!(
+            "{:<24} {:>12.4} {:<7} {}",
+            c.to_string(),
+            value,
+            unit,
+            if c.ok() { "ok" } else { "VIOLATED" }
+        );
     }
     println!();
-    println!("feasible        {}", if report.feasible { "yes" } else { "no" });
+    println!(
+        "feasible        {}",
+        if report.feasible { "yes" } else { "no" }
+    );
     Ok(())
 }

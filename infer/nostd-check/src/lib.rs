@@ -1,0 +1,25 @@
+//! Exercises infer's evaluation path from a `no_std` crate.
+#![no_std]
+
+use infer::{CarveBuffer, Config, DigParams, DigQuery, DigType, Ground, Pose, Terrain};
+
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    loop {}
+}
+
+/// Objective of the reference dig, or −1 on error; a C caller can link it.
+#[unsafe(no_mangle)]
+pub extern "C" fn infer_reference_objective() -> f64 {
+    let cfg = Config::default();
+    let start = Pose { x: 1.0, y: -0.25, zeta: infer::deg(-90.0) };
+    let end = Pose { x: 0.7, y: -0.2, zeta: infer::deg(160.0) };
+    let Ok(q) = DigQuery::from_poses(&cfg, &start, &end, cfg.ground_level, DigType::Downward) else { return -1.0 };
+    let Ok(terrain) = Terrain::flat(-1.5, 1.5, cfg.terrain_dx, q.surface) else { return -1.0 };
+    let mut buf = CarveBuffer::default();
+    let y = DigParams::from_array([4.469e-5, 4.926e-5, 1.0e-7, 7.011]);
+    match infer::evaluate(&cfg, &q.task(), &y, Ground { terrain: &terrain, base_x: 0.0 }, &mut buf) {
+        Ok(r) => r.objective,
+        Err(_) => -1.0,
+    }
+}
