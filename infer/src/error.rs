@@ -31,6 +31,8 @@ pub enum Error {
     BadTerrain(&'static str),
     #[error("the tooth tip leaves the terrain at x = {x:.3} m")]
     OffTerrain { x: f64 },
+    #[error("network is invalid: {0}")]
+    BadNetwork(&'static str),
     #[error("buffer of {got} samples is too small, {needed} needed")]
     BufferTooSmall { got: usize, needed: usize },
 }

@@ -21,6 +21,7 @@ pub mod dynamics;
 pub mod error;
 pub mod kinematics;
 pub mod math;
+pub mod network;
 pub mod query;
 pub mod resistance;
 pub mod terrain;

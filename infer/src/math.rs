@@ -27,6 +27,11 @@ pub(crate) fn acos(x: f64) -> f64 {
 }
 
 #[inline]
+pub(crate) fn tanh(x: f64) -> f64 {
+    libm::tanh(x)
+}
+
+#[inline]
 pub(crate) fn floor(x: f64) -> f64 {
     libm::floor(x)
 }

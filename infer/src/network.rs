@@ -1,0 +1,164 @@
+//! The trained network's forward pass, from exported weights, without burn
+//! and without allocating.
+//!
+//! A network maps a dig query X = [θ_s1, θ_s2, θ_s3, θ_e1, θ_e2, θ_e3, H]
+//! to Y = [a16, a26, a36, T]: x_n = (X − μ_x) / σ_x, then dense layers with
+//! tanh between them and a linear last layer, then Y = y_n σ_y + μ_y. The
+//! parameters are one flat slice, laid out as
+//!
+//! ```text
+//! μ_x (7) σ_x (7) μ_y (4) σ_y (4), then per layer: W (out × in, row-major), b (out)
+//! ```
+//!
+//! so a controller can keep them in a `static` array. With `std`,
+//! [`NetworkFile`] reads and writes the JSON form that training exports.
+
+use crate::error::{Error, ensure_finite};
+use crate::math::tanh;
+
+/// Inputs X.
+pub const INPUTS: usize = 7;
+/// Outputs Y.
+pub const OUTPUTS: usize = 4;
+/// Widest layer the fixed-size activation buffers hold.
+pub const MAX_WIDTH: usize = 256;
+/// Most dense layers.
+pub const MAX_LAYERS: usize = 8;
+/// Number of normalisation constants at the front of the parameter slice.
+pub const NORMALISATION: usize = 2 * INPUTS + 2 * OUTPUTS;
+
+/// A dense tanh network borrowing its parameters.
+#[derive(Debug, Clone, Copy)]
+pub struct Network<'a> {
+    widths: [usize; MAX_LAYERS + 1],
+    layers: usize,
+    params: &'a [f64],
+}
+
+impl<'a> Network<'a> {
+    /// Checks the layer widths (first `INPUTS`, last `OUTPUTS`) against the
+    /// parameter count, and that every parameter is finite and every σ > 0.
+    pub fn new(widths: &[usize], params: &'a [f64]) -> Result<Self, Error> {
+        let layers = widths.len().wrapping_sub(1);
+        if widths.len() < 2 || layers > MAX_LAYERS {
+            return Err(Error::BadNetwork("needs between 1 and 8 layers"));
+        }
+        if widths[0] != INPUTS || widths[layers] != OUTPUTS {
+            return Err(Error::BadNetwork("must map 7 inputs to 4 outputs"));
+        }
+        if widths.iter().any(|&w| w == 0 || w > MAX_WIDTH) {
+            return Err(Error::BadNetwork("a layer is empty or wider than 256"));
+        }
+        if params.len() != parameter_count(widths) {
+            return Err(Error::BadNetwork(
+                "parameter count does not match the layer widths",
+            ));
+        }
+        ensure_finite("network parameter", params)?;
+        let sigma = params[INPUTS..2 * INPUTS]
+            .iter()
+            .chain(&params[2 * INPUTS + OUTPUTS..NORMALISATION]);
+        if sigma.clone().any(|&s| s <= 0.0) {
+            return Err(Error::BadNetwork("a normalisation scale is not positive"));
+        }
+        let mut w = [0; MAX_LAYERS + 1];
+        w[..widths.len()].copy_from_slice(widths);
+        Ok(Network {
+            widths: w,
+            layers,
+            params,
+        })
+    }
+
+    pub fn widths(&self) -> &[usize] {
+        &self.widths[..=self.layers]
+    }
+
+    /// Y for the query `x`, or an error if `x` is not finite.
+    pub fn forward(&self, x: &[f64; INPUTS]) -> Result<[f64; OUTPUTS], Error> {
+        ensure_finite("network input", x)?;
+        let p = self.params;
+        let mut a = [0.0; MAX_WIDTH];
+        let mut b = [0.0; MAX_WIDTH];
+        for i in 0..INPUTS {
+            a[i] = (x[i] - p[i]) / p[INPUTS + i];
+        }
+        let mut offset = NORMALISATION;
+        for l in 0..self.layers {
+            let (n_in, n_out) = (self.widths[l], self.widths[l + 1]);
+            let weights = &p[offset..offset + n_in * n_out];
+            let bias = &p[offset + n_in * n_out..offset + n_in * n_out + n_out];
+            offset += n_in * n_out + n_out;
+            let last = l + 1 == self.layers;
+            for o in 0..n_out {
+                let row = &weights[o * n_in..(o + 1) * n_in];
+                let z = bias[o] + row.iter().zip(&a[..n_in]).map(|(w, v)| w * v).sum::<f64>();
+                b[o] = if last { z } else { tanh(z) };
+            }
+            core::mem::swap(&mut a, &mut b);
+        }
+        let (mean, std) = (
+            &p[2 * INPUTS..2 * INPUTS + OUTPUTS],
+            &p[2 * INPUTS + OUTPUTS..NORMALISATION],
+        );
+        let y: [f64; OUTPUTS] = core::array::from_fn(|i| a[i] * std[i] + mean[i]);
+        ensure_finite("network output", &y)?;
+        Ok(y)
+    }
+}
+
+/// Parameters a network of these widths needs, normalisation included.
+pub fn parameter_count(widths: &[usize]) -> usize {
+    NORMALISATION + widths.windows(2).map(|w| w[0] * w[1] + w[1]).sum::<usize>()
+}
+
+#[cfg(feature = "std")]
+pub use file::NetworkFile;
+
+#[cfg(feature = "std")]
+mod file {
+    use super::*;
+    use crate::dig::DigType;
+    use serde::{Deserialize, Serialize};
+
+    /// The exported form of a trained network (`artifacts/*.json`).
+    #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+    #[serde(deny_unknown_fields)]
+    pub struct NetworkFile {
+        /// Always [`NetworkFile::FORMAT`].
+        pub format: String,
+        pub dig_type: DigType,
+        /// Layer widths, inputs first: e.g. [7, 70, 70, 70, 4].
+        pub widths: Vec<usize>,
+        /// The flat parameters, laid out as the module docs say.
+        pub params: Vec<f64>,
+    }
+
+    impl NetworkFile {
+        pub const FORMAT: &'static str = "dig-network/1";
+
+        /// Parses and checks a JSON export.
+        pub fn from_json(text: &str) -> Result<Self, String> {
+            let file: NetworkFile =
+                serde_json::from_str(text).map_err(|e| format!("network file: {e}"))?;
+            if file.format != Self::FORMAT {
+                return Err(format!(
+                    "network file: format `{}`, expected `{}`",
+                    file.format,
+                    Self::FORMAT
+                ));
+            }
+            file.network().map_err(|e| format!("network file: {e}"))?;
+            Ok(file)
+        }
+
+        pub fn to_json(&self) -> String {
+            serde_json::to_string(self).expect("a NetworkFile always serialises")
+        }
+
+        /// The forward pass over these parameters.
+        pub fn network(&self) -> Result<Network<'_>, Error> {
+            Network::new(&self.widths, &self.params)
+        }
+    }
+}

@@ -1,0 +1,83 @@
+use infer::network::{Network, NetworkFile, parameter_count};
+use infer::{DigType, Error};
+
+/// A 7 → 2 → 4 network with hand-picked weights.
+fn tiny() -> (Vec<usize>, Vec<f64>) {
+    let widths = vec![7, 2, 4];
+    let mut p = Vec::new();
+    p.extend([0.0; 7]); // μ_x
+    p.extend([2.0; 7]); // σ_x
+    p.extend([1.0, 2.0, 3.0, 4.0]); // μ_y
+    p.extend([0.5, 0.5, 0.5, 0.5]); // σ_y
+    p.extend([1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]); // W1 row 0: picks x0
+    p.extend([0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]); // W1 row 1: picks x1
+    p.extend([0.0, 0.0]); // b1
+    p.extend([1.0, 0.0, 0.0, 1.0, 1.0, 1.0, 0.0, 0.0]); // W2 (4 × 2)
+    p.extend([0.0, 0.0, 0.0, 1.0]); // b2
+    assert_eq!(p.len(), parameter_count(&widths));
+    (widths, p)
+}
+
+#[test]
+fn forward_pass_matches_hand_computation() {
+    let (w, p) = tiny();
+    let net = Network::new(&w, &p).unwrap();
+    let x = [1.0, -2.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+    let (h0, h1) = ((0.5f64).tanh(), (-1.0f64).tanh());
+    let expect = [
+        h0 * 0.5 + 1.0,
+        h1 * 0.5 + 2.0,
+        (h0 + h1) * 0.5 + 3.0,
+        1.0 * 0.5 + 4.0,
+    ];
+    let y = net.forward(&x).unwrap();
+    for i in 0..4 {
+        assert!((y[i] - expect[i]).abs() < 1e-15, "{y:?} vs {expect:?}");
+    }
+}
+
+#[test]
+fn json_round_trip_and_bad_files() {
+    let (widths, params) = tiny();
+    let file = NetworkFile {
+        format: NetworkFile::FORMAT.into(),
+        dig_type: DigType::Backward,
+        widths,
+        params,
+    };
+    let back = NetworkFile::from_json(&file.to_json()).unwrap();
+    assert_eq!(back, file);
+    let mut wrong = file.clone();
+    wrong.params.pop();
+    assert!(
+        NetworkFile::from_json(&wrong.to_json())
+            .unwrap_err()
+            .contains("parameter count")
+    );
+    let mut wrong = file.clone();
+    wrong.widths = vec![6, 2, 4];
+    assert!(NetworkFile::from_json(&wrong.to_json()).is_err());
+    let mut wrong = file.clone();
+    wrong.params[8] = 0.0; // σ_x
+    assert!(
+        NetworkFile::from_json(&wrong.to_json())
+            .unwrap_err()
+            .contains("scale")
+    );
+    let mut wrong = file;
+    wrong.format = "other/9".into();
+    assert!(NetworkFile::from_json(&wrong.to_json()).is_err());
+    assert!(NetworkFile::from_json("{\"format\": ").is_err());
+}
+
+#[test]
+fn non_finite_inputs_and_parameters_are_errors() {
+    let (w, mut p) = tiny();
+    let net = Network::new(&w, &p).unwrap();
+    assert!(matches!(
+        net.forward(&[f64::NAN, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]),
+        Err(Error::NonFinite { .. })
+    ));
+    p[20] = f64::INFINITY;
+    assert!(Network::new(&w, &p).is_err());
+}
