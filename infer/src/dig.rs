@@ -416,8 +416,14 @@ pub fn evaluate_with(
 
 #[inline]
 fn widen(range: &mut [f64; 2], v: f64) {
-    range[0] = range[0].min(v);
-    range[1] = range[1].max(v);
+    // Plain comparisons: every value here is finite, so f64::min's NaN
+    // handling is not needed on this hot path.
+    if v < range[0] {
+        range[0] = v;
+    }
+    if v > range[1] {
+        range[1] = v;
+    }
 }
 
 /// θ_p: the angle below the horizontal of the tip's initial direction of

@@ -226,24 +226,33 @@ impl<'a> Carver<'a> {
                 x: if xl < t.x0 { xl } else { xr },
             });
         }
-        let j0 = ceil((xl - t.x0) / t.dx) as usize;
-        let j1 = (floor((xr - t.x0) / t.dx) as usize).min(t.len - 1);
+        // Both offsets are ≥ 0 here, so truncation is floor.
+        let (fl, fr) = ((xl - t.x0) / t.dx, (xr - t.x0) / t.dx);
+        let j0 = {
+            let j = fl as usize;
+            if (j as f64) < fl { j + 1 } else { j }
+        };
+        let j1 = (fr as usize).min(t.len - 1);
         if j0 > j1 {
             return Ok(());
         }
         self.cover(j0, j1 + 1);
         let run = b[0] - a[0];
-        let buf = &mut self.scratch.buf;
-        for (j, s) in buf.iter_mut().enumerate().take(j1 + 1).skip(j0) {
+        let slope = if run == 0.0 { 0.0 } else { (b[1] - a[1]) / run };
+        let flat = a[1].min(b[1]);
+        let buf = &mut self.scratch.buf[j0..=j1];
+        let mut x = t.x0 + j0 as f64 * t.dx;
+        for s in buf.iter_mut() {
             let y = if run == 0.0 {
-                a[1].min(b[1])
+                flat
             } else {
-                a[1] + (b[1] - a[1]) * ((t.x0 + j as f64 * t.dx - a[0]) / run)
+                a[1] + slope * (x - a[0])
             };
             if y < *s {
                 self.removed += *s - y;
                 *s = y;
             }
+            x += t.dx;
         }
         Ok(())
     }
