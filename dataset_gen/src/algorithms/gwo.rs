@@ -1,0 +1,182 @@
+//! Grey wolf optimiser (Mirjalili et al. 2014) with the good-point-set
+//! initial pack of `rope_shovel.md` §5.
+//!
+//! The three best wolves found so far, α, β and δ (by Deb's rules, so a
+//! feasible leader is never displaced by an infeasible wolf), lead the pack.
+//! Each wolf X moves to the mean of three moves:
+//!
+//! A = 2a r1 − a,  C = 2 r2,  D = |C X_L − X|,  X_L' = X_L − A D  for L ∈ {α, β, δ}
+//! X(t+1) = (X_α' + X_β' + X_δ') / 3, clamped to the box,
+//!
+//! with a falling linearly from 2 to 0 over the iteration budget and r1, r2
+//! uniform in [0, 1) per component.
+//!
+//! Good-point set (Hua & Wang): with p the smallest prime ≥ 2D + 3 and
+//! r_j = 2 cos(2π j / p), wolf k (1-based) starts at
+//! lower + frac(k r_j) (upper − lower). The set is deterministic and more
+//! even than uniform draws; [`GwoInit::Random`] draws the pack uniformly
+//! for comparison.
+
+use super::{Algorithm, better};
+use crate::error::Error;
+use crate::problem::{Individual, Problem};
+use crate::rng::{OptRng, uniform, uniform_in};
+use crate::runner::Evaluator;
+use serde::{Deserialize, Serialize};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GwoInit {
+    GoodPointSet,
+    Random,
+}
+
+/// GWO settings. Source: 50 wolves, 100 iterations, a from 2 to 0.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Gwo {
+    pub population: usize,
+    pub init: GwoInit,
+}
+
+impl Default for Gwo {
+    fn default() -> Self {
+        Gwo { population: 50, init: GwoInit::GoodPointSet }
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct GwoState {
+    pack: Vec<Vec<f64>>,
+    /// α, β, δ: the best three distinct points seen so far.
+    leaders: Vec<Individual>,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+}
+
+/// Good-point set: `n` points in the unit cube \[0, 1)^d.
+pub fn good_point_set(n: usize, d: usize) -> Vec<Vec<f64>> {
+    let mut p = 2 * d + 3;
+    while !is_prime(p) {
+        p += 1;
+    }
+    let r: Vec<f64> = (1..=d).map(|j| 2.0 * (2.0 * std::f64::consts::PI * j as f64 / p as f64).cos()).collect();
+    (1..=n)
+        .map(|k| {
+            r.iter()
+                .map(|&rj| {
+                    let v = k as f64 * rj;
+                    v - v.floor()
+                })
+                .collect()
+        })
+        .collect()
+}
+
+fn is_prime(n: usize) -> bool {
+    n >= 2 && (2..).take_while(|i| i * i <= n).all(|i| n % i != 0)
+}
+
+fn update_leaders(leaders: &mut Vec<Individual>, cand: &Individual) {
+    if leaders.iter().any(|l| l.x == cand.x) {
+        return;
+    }
+    let pos = leaders.iter().position(|l| better(cand, l)).unwrap_or(leaders.len());
+    if pos < 3 {
+        leaders.insert(pos, cand.clone());
+        leaders.truncate(3);
+    }
+}
+
+impl Algorithm for Gwo {
+    type State = GwoState;
+
+    fn name(&self) -> &'static str {
+        match self.init {
+            GwoInit::GoodPointSet => "gwo",
+            GwoInit::Random => "gwo-random",
+        }
+    }
+
+    fn settings(&self) -> serde_json::Value {
+        serde_json::to_value(self).unwrap_or_default()
+    }
+
+    fn validate(&self, _dim: usize, n_objectives: usize) -> Result<(), Error> {
+        if self.population < 3 {
+            return Err(Error::BadSettings(format!("GWO needs at least 3 wolves, got {}", self.population)));
+        }
+        if n_objectives != 1 {
+            return Err(Error::BadSettings(format!("GWO is single-objective, the problem has {n_objectives} objectives")));
+        }
+        Ok(())
+    }
+
+    fn init<P: Problem + ?Sized>(&self, ev: &mut Evaluator<'_, P>, _total: usize, rng: &mut OptRng) -> GwoState {
+        let (lo, hi) = ev.bounds();
+        let d = lo.len();
+        let pack: Vec<Vec<f64>> = match self.init {
+            GwoInit::GoodPointSet => good_point_set(self.population, d)
+                .into_iter()
+                .map(|u| (0..d).map(|j| lo[j] + u[j] * (hi[j] - lo[j])).collect())
+                .collect(),
+            GwoInit::Random => (0..self.population).map(|_| (0..d).map(|j| uniform_in(rng, lo[j], hi[j])).collect()).collect(),
+        };
+        let mut leaders = Vec::with_capacity(4);
+        for w in &pack {
+            let ind = ev.eval(w.clone());
+            update_leaders(&mut leaders, &ind);
+        }
+        GwoState { pack, leaders, lo, hi }
+    }
+
+    fn step<P: Problem + ?Sized>(&self, s: &mut GwoState, ev: &mut Evaluator<'_, P>, iteration: usize, total: usize, rng: &mut OptRng) {
+        let a = 2.0 * (1.0 - iteration as f64 / total.max(1) as f64);
+        let d = s.lo.len();
+        // Leaders of this iteration (fewer than three only if the pack had duplicates).
+        let lead: Vec<Vec<f64>> = (0..3).map(|k| s.leaders[k.min(s.leaders.len() - 1)].x.clone()).collect();
+        let mut evaluated = Vec::with_capacity(s.pack.len());
+        for w in s.pack.iter_mut() {
+            for j in 0..d {
+                let mut sum = 0.0;
+                for l in &lead {
+                    let big_a = 2.0 * a * uniform(rng) - a;
+                    let c = 2.0 * uniform(rng);
+                    let dist = (c * l[j] - w[j]).abs();
+                    sum += l[j] - big_a * dist;
+                }
+                w[j] = (sum / 3.0).clamp(s.lo[j], s.hi[j]);
+            }
+            evaluated.push(ev.eval(w.clone()));
+        }
+        for ind in &evaluated {
+            update_leaders(&mut s.leaders, ind);
+        }
+    }
+
+    fn best(&self, s: &GwoState) -> Individual {
+        s.leaders[0].clone()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn good_points_fill_the_cube() {
+        let pts = good_point_set(50, 4);
+        assert_eq!(pts.len(), 50);
+        for p in &pts {
+            assert!(p.iter().all(|v| (0.0..1.0).contains(v)));
+        }
+        // Every coordinate's points spread over all ten deciles.
+        for j in 0..4 {
+            let mut bins = [0; 10];
+            for p in &pts {
+                bins[(p[j] * 10.0) as usize] += 1;
+            }
+            assert!(bins.iter().all(|&b| b >= 2), "coordinate {j}: {bins:?}");
+        }
+        assert!(is_prime(11) && !is_prime(9));
+    }
+}

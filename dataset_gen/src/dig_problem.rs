@@ -1,0 +1,227 @@
+//! The single-dig problem of spec §6 as a [`Problem`].
+//!
+//! Decision variables Y = [a16, a26, a36, T]. The optimisers see the a_i6
+//! scaled by [`A6_SCALE`] (so every variable has an O(1) range) and T in
+//! seconds; [`DigProblem::to_params`] undoes the scaling.
+//!
+//! Bounds (documented defaults, [`DigBounds::default`]):
+//! * a_i6 ∈ [−2·10⁻³, 2·10⁻³] rad/s⁶ for each joint. At T = 7 s the bending
+//!   term a_i6 t³(t − T)³ then reaches ±3.7 rad at mid-dig, far beyond any
+//!   joint range, so the box does not cut off feasible digs; optimal digs
+//!   use |a_i6| ≲ 10⁻⁴.
+//! * T ∈ [5, 10] s, the duration constraint itself.
+//!
+//! Objectives: [`DigObjective::Weighted`] is λ1 T_t + λ2 E_e + λ3 V_v
+//! (PSO, GWO); [`DigObjective::Pareto`] is (T \[s\], W_E \[Wh\], −V \[10⁻³ m³\])
+//! for NSGA-II. The violation is [`infer::DigReport::total_violation`] (a sum
+//! of violations normalised by each constraint's range); an evaluation that
+//! fails (e.g. the tip leaves the terrain) counts as infeasible with
+//! violation [`EVAL_ERROR_VIOLATION`].
+
+use crate::algorithms::AnyAlgorithm;
+use crate::error::Error;
+use crate::problem::{Individual, Problem, compare_single};
+use crate::rng::OptRng;
+use crate::runner::{Budget, RunResult, Runner, StopReason};
+use infer::{CarveBuffer, Config, DigParams, DigQuery, DigReport, DigTask, Ground, Sample, Terrain};
+use serde::{Deserialize, Serialize};
+
+/// a_i6 = x_i · A6_SCALE for the optimiser's x_i, i = 0..3.
+pub const A6_SCALE: f64 = 1e-3;
+/// Violation given to a dig the model could not evaluate.
+pub const EVAL_ERROR_VIOLATION: f64 = 1e3;
+/// The terrain of a single dig spans x ∈ [−1.5, 1.5] m, beyond the arm's
+/// reach l1 + l2 + l3 = 1.31 m.
+pub const TERRAIN_EXTENT: [f64; 2] = [-1.5, 1.5];
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DigBounds {
+    /// |a_i6| ≤ a6_max\[i\] \[rad/s⁶\].
+    pub a6_max: [f64; 3],
+    /// T range \[s\].
+    pub duration: [f64; 2],
+}
+
+impl Default for DigBounds {
+    fn default() -> Self {
+        DigBounds { a6_max: [2e-3; 3], duration: [5.0, 10.0] }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DigObjective {
+    Weighted,
+    Pareto,
+}
+
+/// One dig to optimise. Owns its terrain and carving buffer, so build one
+/// per query (per thread).
+#[derive(Debug, Clone)]
+pub struct DigProblem {
+    cfg: Config,
+    task: DigTask,
+    terrain: Box<Terrain>,
+    scratch: Box<CarveBuffer>,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    pub objective: DigObjective,
+}
+
+impl DigProblem {
+    pub fn new(cfg: &Config, query: &DigQuery, bounds: &DigBounds, objective: DigObjective) -> Result<Self, Error> {
+        cfg.validate()?;
+        query.validate(cfg)?;
+        let terrain = Box::new(Terrain::flat(TERRAIN_EXTENT[0], TERRAIN_EXTENT[1], cfg.terrain_dx, query.surface)?);
+        let lo = vec![-bounds.a6_max[0] / A6_SCALE, -bounds.a6_max[1] / A6_SCALE, -bounds.a6_max[2] / A6_SCALE, bounds.duration[0]];
+        let hi = vec![bounds.a6_max[0] / A6_SCALE, bounds.a6_max[1] / A6_SCALE, bounds.a6_max[2] / A6_SCALE, bounds.duration[1]];
+        if !(bounds.duration[0] > 0.0) {
+            return Err(Error::BadProblem("the duration bound must be positive".into()));
+        }
+        Ok(DigProblem { cfg: *cfg, task: query.task(), terrain, scratch: Box::default(), lo, hi, objective })
+    }
+
+    /// Y = [a16, a26, a36, T] from the optimiser's variables.
+    pub fn to_params(x: &[f64]) -> DigParams {
+        DigParams { a6: [x[0] * A6_SCALE, x[1] * A6_SCALE, x[2] * A6_SCALE], duration: x[3] }
+    }
+
+    /// The optimiser's variables for Y.
+    pub fn from_params(p: &DigParams) -> Vec<f64> {
+        vec![p.a6[0] / A6_SCALE, p.a6[1] / A6_SCALE, p.a6[2] / A6_SCALE, p.duration]
+    }
+
+    /// Full evaluation of one dig under the exact model.
+    pub fn report(&mut self, params: &DigParams) -> Result<DigReport, Error> {
+        let ground = Ground { terrain: &self.terrain, base_x: 0.0 };
+        Ok(infer::evaluate(&self.cfg, &self.task, params, ground, &mut self.scratch)?)
+    }
+
+    /// The weighted objective and violation of a point (errors count as infeasible).
+    pub fn weighted(&mut self, x: &[f64]) -> (f64, f64) {
+        match self.report(&Self::to_params(x)) {
+            Ok(r) => (r.objective, r.total_violation()),
+            Err(_) => (f64::INFINITY, EVAL_ERROR_VIOLATION),
+        }
+    }
+
+    /// Every time sample of a dig (for the optional trajectory topic).
+    pub fn trajectory(&mut self, params: &DigParams) -> Result<Vec<Sample>, Error> {
+        let ground = Ground { terrain: &self.terrain, base_x: 0.0 };
+        let mut out = Vec::with_capacity(self.cfg.time_samples);
+        infer::evaluate_with(&self.cfg, &self.task, params, ground, &mut self.scratch, |s| out.push(*s))?;
+        Ok(out)
+    }
+}
+
+impl Problem for DigProblem {
+    fn dim(&self) -> usize {
+        4
+    }
+
+    fn bounds(&self) -> (&[f64], &[f64]) {
+        (&self.lo, &self.hi)
+    }
+
+    fn n_objectives(&self) -> usize {
+        match self.objective {
+            DigObjective::Weighted => 1,
+            DigObjective::Pareto => 3,
+        }
+    }
+
+    fn evaluate(&mut self, x: &[f64], f: &mut [f64]) -> f64 {
+        let params = Self::to_params(x);
+        match (self.report(&params), self.objective) {
+            (Ok(r), DigObjective::Weighted) => {
+                f[0] = r.objective;
+                r.total_violation()
+            }
+            (Ok(r), DigObjective::Pareto) => {
+                f[0] = r.duration;
+                f[1] = r.energy_wh();
+                f[2] = -r.volume * 1e3;
+                r.total_violation()
+            }
+            (Err(_), _) => {
+                f.fill(f64::INFINITY);
+                EVAL_ERROR_VIOLATION
+            }
+        }
+    }
+
+    fn name(&self) -> String {
+        format!("dig-{}", self.task.kind)
+    }
+}
+
+/// The optimised dig of one query.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DigSolution {
+    /// Y = [a16, a26, a36, T].
+    pub y: [f64; 4],
+    /// Every figure of the chosen dig under the exact model (`None` only if
+    /// the model could not evaluate any point the optimiser tried).
+    pub report: Option<DigReport>,
+    pub iterations: usize,
+    pub evaluations: u64,
+    pub stop: StopReason,
+    pub wall_time_s: f64,
+    /// Size of the final front (NSGA-II), 1 otherwise.
+    pub front_size: usize,
+}
+
+impl DigSolution {
+    pub fn feasible(&self) -> bool {
+        self.report.is_some_and(|r| r.feasible)
+    }
+
+    /// The weighted objective (+∞ when the dig could not be evaluated).
+    pub fn objective(&self) -> f64 {
+        self.report.map_or(f64::INFINITY, |r| r.objective)
+    }
+}
+
+/// Optimises one query with `algorithm` (PSO/GWO on the weighted objective,
+/// NSGA-II on (T, W_E, −V), then the front member with the best weighted
+/// objective by Deb's rules).
+pub fn solve(
+    cfg: &Config,
+    query: &DigQuery,
+    bounds: &DigBounds,
+    algorithm: &AnyAlgorithm,
+    budget: Budget,
+    rng: &mut OptRng,
+) -> Result<DigSolution, Error> {
+    let objective = match algorithm {
+        AnyAlgorithm::Nsga2(_) => DigObjective::Pareto,
+        _ => DigObjective::Weighted,
+    };
+    let mut problem = DigProblem::new(cfg, query, bounds, objective)?;
+    let runner = Runner::new(budget, 0);
+    let run: RunResult = algorithm.run(&runner, &mut problem, rng)?;
+    let chosen: Individual = match objective {
+        DigObjective::Weighted => run.best.clone(),
+        DigObjective::Pareto => {
+            let mut best: Option<(f64, f64, &Individual)> = None;
+            for m in &run.front {
+                let (f, v) = problem.weighted(&m.x);
+                if best.is_none_or(|(bf, bv, _)| compare_single(v, f, bv, bf).is_lt()) {
+                    best = Some((f, v, m));
+                }
+            }
+            best.map_or_else(|| run.best.clone(), |(_, _, m)| m.clone())
+        }
+    };
+    let params = DigProblem::to_params(&chosen.x);
+    let report = problem.report(&params).ok();
+    Ok(DigSolution {
+        y: params.to_array(),
+        report,
+        iterations: run.iterations,
+        evaluations: run.evaluations,
+        stop: run.stop,
+        wall_time_s: run.wall_time_s,
+        front_size: run.front.len(),
+    })
+}

@@ -1,0 +1,51 @@
+//! Small summaries of a set of numbers (objective distributions, gaps).
+
+use serde::{Deserialize, Serialize};
+
+/// Count, mean and quantiles of the finite values of a set.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Distribution {
+    pub count: usize,
+    pub mean: f64,
+    pub min: f64,
+    pub p05: f64,
+    pub median: f64,
+    pub p95: f64,
+    pub max: f64,
+}
+
+impl Distribution {
+    pub fn of(values: &[f64]) -> Self {
+        let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+        if v.is_empty() {
+            return Distribution::default();
+        }
+        v.sort_by(f64::total_cmp);
+        let q = |p: f64| {
+            let pos = p * (v.len() - 1) as f64;
+            let (i, frac) = (pos.floor() as usize, pos - pos.floor());
+            if i + 1 < v.len() { v[i] * (1.0 - frac) + v[i + 1] * frac } else { v[i] }
+        };
+        Distribution {
+            count: v.len(),
+            mean: v.iter().sum::<f64>() / v.len() as f64,
+            min: v[0],
+            p05: q(0.05),
+            median: q(0.5),
+            p95: q(0.95),
+            max: v[v.len() - 1],
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quantiles() {
+        let d = Distribution::of(&[3.0, 1.0, 2.0, f64::NAN]);
+        assert_eq!((d.count, d.min, d.median, d.max, d.mean), (3, 1.0, 2.0, 3.0, 2.0));
+        assert_eq!(Distribution::of(&[]).count, 0);
+    }
+}
