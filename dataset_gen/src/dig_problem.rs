@@ -23,7 +23,9 @@ use crate::error::Error;
 use crate::problem::{Individual, Problem, compare_single};
 use crate::rng::OptRng;
 use crate::runner::{Budget, RunResult, Runner, StopReason};
-use infer::{CarveBuffer, Config, DigParams, DigQuery, DigReport, DigTask, Ground, Sample, Terrain};
+use infer::{
+    CarveBuffer, Config, DigParams, DigQuery, DigReport, DigTask, Ground, Sample, Terrain,
+};
 use serde::{Deserialize, Serialize};
 
 /// a_i6 = x_i · A6_SCALE for the optimiser's x_i, i = 0..3.
@@ -44,7 +46,10 @@ pub struct DigBounds {
 
 impl Default for DigBounds {
     fn default() -> Self {
-        DigBounds { a6_max: [2e-3; 3], duration: [5.0, 10.0] }
+        DigBounds {
+            a6_max: [2e-3; 3],
+            duration: [5.0, 10.0],
+        }
     }
 }
 
@@ -69,32 +74,79 @@ pub struct DigProblem {
 }
 
 impl DigProblem {
-    pub fn new(cfg: &Config, query: &DigQuery, bounds: &DigBounds, objective: DigObjective) -> Result<Self, Error> {
+    pub fn new(
+        cfg: &Config,
+        query: &DigQuery,
+        bounds: &DigBounds,
+        objective: DigObjective,
+    ) -> Result<Self, Error> {
         cfg.validate()?;
         query.validate(cfg)?;
-        let terrain = Box::new(Terrain::flat(TERRAIN_EXTENT[0], TERRAIN_EXTENT[1], cfg.terrain_dx, query.surface)?);
-        let lo = vec![-bounds.a6_max[0] / A6_SCALE, -bounds.a6_max[1] / A6_SCALE, -bounds.a6_max[2] / A6_SCALE, bounds.duration[0]];
-        let hi = vec![bounds.a6_max[0] / A6_SCALE, bounds.a6_max[1] / A6_SCALE, bounds.a6_max[2] / A6_SCALE, bounds.duration[1]];
+        let terrain = Box::new(Terrain::flat(
+            TERRAIN_EXTENT[0],
+            TERRAIN_EXTENT[1],
+            cfg.terrain_dx,
+            query.surface,
+        )?);
+        let lo = vec![
+            -bounds.a6_max[0] / A6_SCALE,
+            -bounds.a6_max[1] / A6_SCALE,
+            -bounds.a6_max[2] / A6_SCALE,
+            bounds.duration[0],
+        ];
+        let hi = vec![
+            bounds.a6_max[0] / A6_SCALE,
+            bounds.a6_max[1] / A6_SCALE,
+            bounds.a6_max[2] / A6_SCALE,
+            bounds.duration[1],
+        ];
         if !(bounds.duration[0] > 0.0) {
-            return Err(Error::BadProblem("the duration bound must be positive".into()));
+            return Err(Error::BadProblem(
+                "the duration bound must be positive".into(),
+            ));
         }
-        Ok(DigProblem { cfg: *cfg, task: query.task(), terrain, scratch: Box::default(), lo, hi, objective })
+        Ok(DigProblem {
+            cfg: *cfg,
+            task: query.task(),
+            terrain,
+            scratch: Box::default(),
+            lo,
+            hi,
+            objective,
+        })
     }
 
     /// Y = [a16, a26, a36, T] from the optimiser's variables.
     pub fn to_params(x: &[f64]) -> DigParams {
-        DigParams { a6: [x[0] * A6_SCALE, x[1] * A6_SCALE, x[2] * A6_SCALE], duration: x[3] }
+        DigParams {
+            a6: [x[0] * A6_SCALE, x[1] * A6_SCALE, x[2] * A6_SCALE],
+            duration: x[3],
+        }
     }
 
     /// The optimiser's variables for Y.
     pub fn from_params(p: &DigParams) -> Vec<f64> {
-        vec![p.a6[0] / A6_SCALE, p.a6[1] / A6_SCALE, p.a6[2] / A6_SCALE, p.duration]
+        vec![
+            p.a6[0] / A6_SCALE,
+            p.a6[1] / A6_SCALE,
+            p.a6[2] / A6_SCALE,
+            p.duration,
+        ]
     }
 
     /// Full evaluation of one dig under the exact model.
     pub fn report(&mut self, params: &DigParams) -> Result<DigReport, Error> {
-        let ground = Ground { terrain: &self.terrain, base_x: 0.0 };
-        Ok(infer::evaluate(&self.cfg, &self.task, params, ground, &mut self.scratch)?)
+        let ground = Ground {
+            terrain: &self.terrain,
+            base_x: 0.0,
+        };
+        Ok(infer::evaluate(
+            &self.cfg,
+            &self.task,
+            params,
+            ground,
+            &mut self.scratch,
+        )?)
     }
 
     /// The weighted objective and violation of a point (errors count as infeasible).
@@ -107,9 +159,19 @@ impl DigProblem {
 
     /// Every time sample of a dig (for the optional trajectory topic).
     pub fn trajectory(&mut self, params: &DigParams) -> Result<Vec<Sample>, Error> {
-        let ground = Ground { terrain: &self.terrain, base_x: 0.0 };
+        let ground = Ground {
+            terrain: &self.terrain,
+            base_x: 0.0,
+        };
         let mut out = Vec::with_capacity(self.cfg.time_samples);
-        infer::evaluate_with(&self.cfg, &self.task, params, ground, &mut self.scratch, |s| out.push(*s))?;
+        infer::evaluate_with(
+            &self.cfg,
+            &self.task,
+            params,
+            ground,
+            &mut self.scratch,
+            |s| out.push(*s),
+        )?;
         Ok(out)
     }
 }

@@ -17,16 +17,25 @@ pub enum Error {
     #[error("model error: {0}")]
     Model(#[from] infer::Error),
     #[error("{path}: {source}")]
-    Io { path: PathBuf, source: std::io::Error },
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
     #[error("{path}: not a readable MCAP file ({detail}); the file may be truncated or corrupt")]
     CorruptMcap { path: PathBuf, detail: String },
     #[error("{path}: MCAP file is truncated (no footer/summary at the end); re-run or re-merge it")]
     TruncatedMcap { path: PathBuf },
     #[error("{path}: message {index} is not a valid dig sample: {detail}")]
-    BadSample { path: PathBuf, index: u64, detail: String },
+    BadSample {
+        path: PathBuf,
+        index: u64,
+        detail: String,
+    },
     #[error("{path}: {detail}")]
     BadDataset { path: PathBuf, detail: String },
-    #[error("output directory {path} holds a run with a different configuration ({detail}); use another directory or the same settings")]
+    #[error(
+        "output directory {path} holds a run with a different configuration ({detail}); use another directory or the same settings"
+    )]
     ManifestMismatch { path: PathBuf, detail: String },
     #[error("merge: {0}")]
     Merge(String),
@@ -38,6 +47,9 @@ pub enum Error {
 
 impl Error {
     pub(crate) fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
-        Error::Io { path: path.into(), source }
+        Error::Io {
+            path: path.into(),
+            source,
+        }
     }
 }

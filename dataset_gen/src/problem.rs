@@ -47,7 +47,9 @@ pub fn check_problem<P: Problem + ?Sized>(p: &P) -> Result<(), Error> {
     }
     for (i, (&l, &h)) in lo.iter().zip(hi).enumerate() {
         if !(l.is_finite() && h.is_finite() && l < h) {
-            return Err(Error::BadProblem(format!("bound {i} is [{l}, {h}]: needs finite lower < upper")));
+            return Err(Error::BadProblem(format!(
+                "bound {i} is [{l}, {h}]: needs finite lower < upper"
+            )));
         }
     }
     if p.n_objectives() == 0 {
@@ -79,7 +81,11 @@ pub fn sanitize(f: &mut [f64], violation: f64) -> f64 {
             *v = f64::INFINITY;
         }
     }
-    if violation.is_nan() { f64::INFINITY } else { violation.max(0.0) }
+    if violation.is_nan() {
+        f64::INFINITY
+    } else {
+        violation.max(0.0)
+    }
 }
 
 /// Deb's ordering of two single-objective points (violation, objective):

@@ -23,7 +23,11 @@ pub struct Budget {
 
 impl Budget {
     pub fn iterations(iterations: usize) -> Self {
-        Budget { iterations, max_evaluations: None, target: None }
+        Budget {
+            iterations,
+            max_evaluations: None,
+            target: None,
+        }
     }
 }
 
@@ -49,7 +53,11 @@ pub struct Evaluator<'a, P: ?Sized> {
 impl<'a, P: Problem + ?Sized> Evaluator<'a, P> {
     pub fn new(problem: &'a mut P) -> Self {
         let n_obj = problem.n_objectives();
-        Evaluator { problem, evaluations: 0, n_obj }
+        Evaluator {
+            problem,
+            evaluations: 0,
+            n_obj,
+        }
     }
 
     pub fn dim(&self) -> usize {
@@ -107,7 +115,11 @@ pub struct Runner<'c> {
 
 impl<'c> Runner<'c> {
     pub fn new(budget: Budget, seed: u64) -> Self {
-        Runner { budget, seed, cancel: None }
+        Runner {
+            budget,
+            seed,
+            cancel: None,
+        }
     }
 
     pub fn with_cancel(mut self, flag: &'c AtomicBool) -> Self {
@@ -116,7 +128,11 @@ impl<'c> Runner<'c> {
     }
 
     /// Runs `algorithm` on `problem` with a generator seeded from `self.seed`.
-    pub fn run<A: Algorithm + ?Sized, P: Problem + ?Sized>(&self, algorithm: &A, problem: &mut P) -> Result<RunResult, Error> {
+    pub fn run<A: Algorithm + ?Sized, P: Problem + ?Sized>(
+        &self,
+        algorithm: &A,
+        problem: &mut P,
+    ) -> Result<RunResult, Error> {
         let mut rng = rng_from_seed(self.seed);
         self.run_with_rng(algorithm, problem, &mut rng)
     }
@@ -132,7 +148,9 @@ impl<'c> Runner<'c> {
         check_problem(problem)?;
         algorithm.validate(problem.dim(), problem.n_objectives())?;
         if self.budget.max_evaluations == Some(0) {
-            return Err(Error::BadSettings("max_evaluations is 0: nothing can be evaluated".into()));
+            return Err(Error::BadSettings(
+                "max_evaluations is 0: nothing can be evaluated".into(),
+            ));
         }
         let started = Instant::now();
         let mut ev = Evaluator::new(problem);
@@ -188,7 +206,13 @@ impl RunResult {
     pub fn summary(&self) -> String {
         format!(
             "{}: best f = {:?} (violation {:.3e}) after {} iterations, {} evaluations, {:.3} s, stopped: {:?}",
-            self.algorithm, self.best.f, self.best.violation, self.iterations, self.evaluations, self.wall_time_s, self.stop
+            self.algorithm,
+            self.best.f,
+            self.best.violation,
+            self.iterations,
+            self.evaluations,
+            self.wall_time_s,
+            self.stop
         )
     }
 }

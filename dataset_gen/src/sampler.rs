@@ -36,7 +36,10 @@ impl QuerySampler {
                 return Ok((q, u));
             }
         }
-        Err(Error::NoReachableQuery { kind, tries: MAX_TRIES })
+        Err(Error::NoReachableQuery {
+            kind,
+            tries: MAX_TRIES,
+        })
     }
 }
 

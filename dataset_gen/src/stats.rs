@@ -24,7 +24,11 @@ impl Distribution {
         let q = |p: f64| {
             let pos = p * (v.len() - 1) as f64;
             let (i, frac) = (pos.floor() as usize, pos - pos.floor());
-            if i + 1 < v.len() { v[i] * (1.0 - frac) + v[i + 1] * frac } else { v[i] }
+            if i + 1 < v.len() {
+                v[i] * (1.0 - frac) + v[i + 1] * frac
+            } else {
+                v[i]
+            }
         };
         Distribution {
             count: v.len(),
@@ -45,7 +49,10 @@ mod tests {
     #[test]
     fn quantiles() {
         let d = Distribution::of(&[3.0, 1.0, 2.0, f64::NAN]);
-        assert_eq!((d.count, d.min, d.median, d.max, d.mean), (3, 1.0, 2.0, 3.0, 2.0));
+        assert_eq!(
+            (d.count, d.min, d.median, d.max, d.mean),
+            (3, 1.0, 2.0, 3.0, 2.0)
+        );
         assert_eq!(Distribution::of(&[]).count, 0);
     }
 }

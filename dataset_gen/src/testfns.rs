@@ -23,7 +23,15 @@ pub enum TestFn {
 }
 
 impl TestFn {
-    pub const ALL: [TestFn; 7] = [TestFn::Sphere, TestFn::Rosenbrock, TestFn::Rastrigin, TestFn::Ackley, TestFn::Zdt1, TestFn::Zdt2, TestFn::Zdt3];
+    pub const ALL: [TestFn; 7] = [
+        TestFn::Sphere,
+        TestFn::Rosenbrock,
+        TestFn::Rastrigin,
+        TestFn::Ackley,
+        TestFn::Zdt1,
+        TestFn::Zdt2,
+        TestFn::Zdt3,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -38,7 +46,9 @@ impl TestFn {
     }
 
     pub fn parse(s: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|f| f.name() == s.trim().to_ascii_lowercase())
+        Self::ALL
+            .into_iter()
+            .find(|f| f.name() == s.trim().to_ascii_lowercase())
     }
 
     pub fn is_multi_objective(self) -> bool {
@@ -68,7 +78,11 @@ impl TestProblem {
     /// `dim` must be ≥ 1 (≥ 2 for ZDT); checked by the runner through the bounds.
     pub fn new(function: TestFn, dim: usize) -> Self {
         let (l, h) = function.bound();
-        TestProblem { function, lo: vec![l; dim], hi: vec![h; dim] }
+        TestProblem {
+            function,
+            lo: vec![l; dim],
+            hi: vec![h; dim],
+        }
     }
 }
 
@@ -77,11 +91,16 @@ pub fn sphere(x: &[f64]) -> f64 {
 }
 
 pub fn rosenbrock(x: &[f64]) -> f64 {
-    x.windows(2).map(|w| 100.0 * (w[1] - w[0] * w[0]).powi(2) + (1.0 - w[0]).powi(2)).sum()
+    x.windows(2)
+        .map(|w| 100.0 * (w[1] - w[0] * w[0]).powi(2) + (1.0 - w[0]).powi(2))
+        .sum()
 }
 
 pub fn rastrigin(x: &[f64]) -> f64 {
-    10.0 * x.len() as f64 + x.iter().map(|v| v * v - 10.0 * (2.0 * PI * v).cos()).sum::<f64>()
+    10.0 * x.len() as f64
+        + x.iter()
+            .map(|v| v * v - 10.0 * (2.0 * PI * v).cos())
+            .sum::<f64>()
 }
 
 pub fn ackley(x: &[f64]) -> f64 {
@@ -114,7 +133,11 @@ impl Problem for TestProblem {
     }
 
     fn n_objectives(&self) -> usize {
-        if self.function.is_multi_objective() { 2 } else { 1 }
+        if self.function.is_multi_objective() {
+            2
+        } else {
+            1
+        }
     }
 
     fn evaluate(&mut self, x: &[f64], f: &mut [f64]) -> f64 {

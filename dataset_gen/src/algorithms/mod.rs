@@ -24,8 +24,20 @@ pub trait Algorithm {
     fn settings(&self) -> serde_json::Value;
     /// Error unless the settings suit a problem of this size.
     fn validate(&self, dim: usize, n_objectives: usize) -> Result<(), Error>;
-    fn init<P: Problem + ?Sized>(&self, ev: &mut Evaluator<'_, P>, total: usize, rng: &mut OptRng) -> Self::State;
-    fn step<P: Problem + ?Sized>(&self, state: &mut Self::State, ev: &mut Evaluator<'_, P>, iteration: usize, total: usize, rng: &mut OptRng);
+    fn init<P: Problem + ?Sized>(
+        &self,
+        ev: &mut Evaluator<'_, P>,
+        total: usize,
+        rng: &mut OptRng,
+    ) -> Self::State;
+    fn step<P: Problem + ?Sized>(
+        &self,
+        state: &mut Self::State,
+        ev: &mut Evaluator<'_, P>,
+        iteration: usize,
+        total: usize,
+        rng: &mut OptRng,
+    );
     /// Best point so far by Deb's rules on the first objective.
     fn best(&self, state: &Self::State) -> Individual;
     /// Final set of trade-offs (multi-objective) or `[best]`.
@@ -60,11 +72,25 @@ impl AnyAlgorithm {
     /// The algorithm by name with a population size and default settings.
     pub fn by_name(name: &str, population: usize) -> Result<Self, Error> {
         match name {
-            "pso" => Ok(AnyAlgorithm::Pso(Pso { population, ..Pso::default() })),
-            "gwo" => Ok(AnyAlgorithm::Gwo(Gwo { population, ..Gwo::default() })),
-            "gwo-random" => Ok(AnyAlgorithm::Gwo(Gwo { population, init: GwoInit::Random })),
-            "nsga2" | "nsga-ii" => Ok(AnyAlgorithm::Nsga2(Nsga2 { population, ..Nsga2::default() })),
-            other => Err(Error::BadArgument(format!("unknown optimiser `{other}` (expected pso, gwo, gwo-random or nsga2)"))),
+            "pso" => Ok(AnyAlgorithm::Pso(Pso {
+                population,
+                ..Pso::default()
+            })),
+            "gwo" => Ok(AnyAlgorithm::Gwo(Gwo {
+                population,
+                ..Gwo::default()
+            })),
+            "gwo-random" => Ok(AnyAlgorithm::Gwo(Gwo {
+                population,
+                init: GwoInit::Random,
+            })),
+            "nsga2" | "nsga-ii" => Ok(AnyAlgorithm::Nsga2(Nsga2 {
+                population,
+                ..Nsga2::default()
+            })),
+            other => Err(Error::BadArgument(format!(
+                "unknown optimiser `{other}` (expected pso, gwo, gwo-random or nsga2)"
+            ))),
         }
     }
 

@@ -46,7 +46,12 @@ pub fn fast_non_dominated_sort<T: Fitness>(pop: &[T]) -> Vec<Vec<usize>> {
             if constrained_dominates(a.objectives(), a.violation(), b.objectives(), b.violation()) {
                 dominated_by_me[i].push(j);
                 count[j] += 1;
-            } else if constrained_dominates(b.objectives(), b.violation(), a.objectives(), a.violation()) {
+            } else if constrained_dominates(
+                b.objectives(),
+                b.violation(),
+                a.objectives(),
+                a.violation(),
+            ) {
                 dominated_by_me[j].push(i);
                 count[i] += 1;
             }
@@ -184,7 +189,13 @@ pub struct Nsga2 {
 
 impl Default for Nsga2 {
     fn default() -> Self {
-        Nsga2 { population: 100, crossover_prob: 0.9, eta_c: 20.0, mutation_prob: None, eta_m: 20.0 }
+        Nsga2 {
+            population: 100,
+            crossover_prob: 0.9,
+            eta_c: 20.0,
+            mutation_prob: None,
+            eta_m: 20.0,
+        }
     }
 }
 
@@ -214,7 +225,11 @@ fn sbx(x1: f64, x2: f64, lo: f64, hi: f64, eta: f64, rng: &mut OptRng) -> (f64, 
     let u = uniform(rng);
     let child = |beta: f64| {
         let alpha = 2.0 - beta.powf(-(eta + 1.0));
-        let betaq = if u <= 1.0 / alpha { (u * alpha).powf(1.0 / (eta + 1.0)) } else { (1.0 / (2.0 - u * alpha)).powf(1.0 / (eta + 1.0)) };
+        let betaq = if u <= 1.0 / alpha {
+            (u * alpha).powf(1.0 / (eta + 1.0))
+        } else {
+            (1.0 / (2.0 - u * alpha)).powf(1.0 / (eta + 1.0))
+        };
         betaq
     };
     let b1 = 1.0 + 2.0 * (y1 - lo) / (y2 - y1);
@@ -222,7 +237,11 @@ fn sbx(x1: f64, x2: f64, lo: f64, hi: f64, eta: f64, rng: &mut OptRng) -> (f64, 
     let b2 = 1.0 + 2.0 * (hi - y2) / (y2 - y1);
     let c2 = 0.5 * ((y1 + y2) + child(b2) * (y2 - y1));
     let (c1, c2) = (c1.clamp(lo, hi), c2.clamp(lo, hi));
-    if uniform(rng) < 0.5 { (c2, c1) } else { (c1, c2) }
+    if uniform(rng) < 0.5 {
+        (c2, c1)
+    } else {
+        (c1, c2)
+    }
 }
 
 /// Polynomial mutation of one variable (Deb & Goyal 1996, bounded form).
@@ -260,28 +279,62 @@ impl Algorithm for Nsga2 {
 
     fn validate(&self, _dim: usize, _n_objectives: usize) -> Result<(), Error> {
         if self.population < 4 {
-            return Err(Error::BadSettings(format!("NSGA-II needs a population of at least 4, got {}", self.population)));
+            return Err(Error::BadSettings(format!(
+                "NSGA-II needs a population of at least 4, got {}",
+                self.population
+            )));
         }
-        if !(0.0..=1.0).contains(&self.crossover_prob) || self.mutation_prob.is_some_and(|p| !(0.0..=1.0).contains(&p)) {
-            return Err(Error::BadSettings("NSGA-II probabilities must lie in [0, 1]".into()));
+        if !(0.0..=1.0).contains(&self.crossover_prob)
+            || self
+                .mutation_prob
+                .is_some_and(|p| !(0.0..=1.0).contains(&p))
+        {
+            return Err(Error::BadSettings(
+                "NSGA-II probabilities must lie in [0, 1]".into(),
+            ));
         }
-        if !(self.eta_c.is_finite() && self.eta_c >= 0.0 && self.eta_m.is_finite() && self.eta_m >= 0.0) {
-            return Err(Error::BadSettings("NSGA-II distribution indices must be finite and non-negative".into()));
+        if !(self.eta_c.is_finite()
+            && self.eta_c >= 0.0
+            && self.eta_m.is_finite()
+            && self.eta_m >= 0.0)
+        {
+            return Err(Error::BadSettings(
+                "NSGA-II distribution indices must be finite and non-negative".into(),
+            ));
         }
         Ok(())
     }
 
-    fn init<P: Problem + ?Sized>(&self, ev: &mut Evaluator<'_, P>, _total: usize, rng: &mut OptRng) -> Nsga2State {
+    fn init<P: Problem + ?Sized>(
+        &self,
+        ev: &mut Evaluator<'_, P>,
+        _total: usize,
+        rng: &mut OptRng,
+    ) -> Nsga2State {
         let (lo, hi) = ev.bounds();
         let d = lo.len();
-        let pop: Vec<Individual> =
-            (0..self.pop_size()).map(|_| ev.eval((0..d).map(|j| uniform_in(rng, lo[j], hi[j])).collect())).collect();
+        let pop: Vec<Individual> = (0..self.pop_size())
+            .map(|_| ev.eval((0..d).map(|j| uniform_in(rng, lo[j], hi[j])).collect()))
+            .collect();
         let ranking = rank_population(&pop);
         let best = super::pso::best_of(&pop);
-        Nsga2State { pop, ranking, best, lo, hi }
+        Nsga2State {
+            pop,
+            ranking,
+            best,
+            lo,
+            hi,
+        }
     }
 
-    fn step<P: Problem + ?Sized>(&self, s: &mut Nsga2State, ev: &mut Evaluator<'_, P>, _iteration: usize, _total: usize, rng: &mut OptRng) {
+    fn step<P: Problem + ?Sized>(
+        &self,
+        s: &mut Nsga2State,
+        ev: &mut Evaluator<'_, P>,
+        _iteration: usize,
+        _total: usize,
+        rng: &mut OptRng,
+    ) {
         let n = s.pop.len();
         let d = s.lo.len();
         let pm = self.mutation_prob.unwrap_or(1.0 / d as f64);
@@ -319,7 +372,10 @@ impl Algorithm for Nsga2 {
         }
         let (keep, ranking) = select_survivors(&merged, n);
         let mut slots: Vec<Option<Individual>> = merged.into_iter().map(Some).collect();
-        s.pop = keep.iter().map(|&i| slots[i].take().unwrap_or_else(|| unreachable_individual(d))).collect();
+        s.pop = keep
+            .iter()
+            .map(|&i| slots[i].take().unwrap_or_else(|| unreachable_individual(d)))
+            .collect();
         s.ranking = ranking;
     }
 
@@ -330,20 +386,33 @@ impl Algorithm for Nsga2 {
     /// The first front of the final population (feasible members only if
     /// any member is feasible).
     fn front(&self, s: &Nsga2State) -> Vec<Individual> {
-        s.pop.iter().zip(&s.ranking.rank).filter(|(_, r)| **r == 0).map(|(p, _)| p.clone()).collect()
+        s.pop
+            .iter()
+            .zip(&s.ranking.rank)
+            .filter(|(_, r)| **r == 0)
+            .map(|(p, _)| p.clone())
+            .collect()
     }
 }
 
 // `select_survivors` returns distinct indices, so this is never reached; it
 // exists so that a logic error cannot panic a batch run.
 fn unreachable_individual(d: usize) -> Individual {
-    Individual { x: vec![0.0; d], f: vec![f64::INFINITY], violation: f64::INFINITY }
+    Individual {
+        x: vec![0.0; d],
+        f: vec![f64::INFINITY],
+        violation: f64::INFINITY,
+    }
 }
 
 /// Hypervolume of a two-objective set (minimisation) with respect to a
 /// reference point: the area dominated by the set and bounded by `reference`.
 pub fn hypervolume_2d(points: &[[f64; 2]], reference: [f64; 2]) -> f64 {
-    let mut pts: Vec<[f64; 2]> = points.iter().copied().filter(|p| p[0] < reference[0] && p[1] < reference[1]).collect();
+    let mut pts: Vec<[f64; 2]> = points
+        .iter()
+        .copied()
+        .filter(|p| p[0] < reference[0] && p[1] < reference[1])
+        .collect();
     pts.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
     let mut hv = 0.0;
     let mut last_y = reference[1];

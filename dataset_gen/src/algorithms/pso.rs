@@ -26,8 +26,17 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum PsoVariant {
-    Constriction { chi: f64, c1: f64, c2: f64 },
-    Inertia { w_start: f64, w_end: f64, c1: f64, c2: f64 },
+    Constriction {
+        chi: f64,
+        c1: f64,
+        c2: f64,
+    },
+    Inertia {
+        w_start: f64,
+        w_end: f64,
+        c1: f64,
+        c2: f64,
+    },
 }
 
 impl PsoVariant {
@@ -35,12 +44,21 @@ impl PsoVariant {
     pub fn constriction() -> Self {
         let phi: f64 = 4.1;
         let chi = 2.0 / (2.0 - phi - (phi * phi - 4.0 * phi).sqrt()).abs();
-        PsoVariant::Constriction { chi, c1: 2.05, c2: 2.05 }
+        PsoVariant::Constriction {
+            chi,
+            c1: 2.05,
+            c2: 2.05,
+        }
     }
 
     /// Shi–Eberhart linearly decreasing inertia 0.9 → 0.4, c1 = c2 = 2.
     pub fn inertia() -> Self {
-        PsoVariant::Inertia { w_start: 0.9, w_end: 0.4, c1: 2.0, c2: 2.0 }
+        PsoVariant::Inertia {
+            w_start: 0.9,
+            w_end: 0.4,
+            c1: 2.0,
+            c2: 2.0,
+        }
     }
 }
 
@@ -55,7 +73,11 @@ pub struct Pso {
 
 impl Default for Pso {
     fn default() -> Self {
-        Pso { population: 50, variant: PsoVariant::constriction(), vmax_fraction: 0.5 }
+        Pso {
+            population: 50,
+            variant: PsoVariant::constriction(),
+            vmax_fraction: 0.5,
+        }
     }
 }
 
@@ -82,25 +104,48 @@ impl Algorithm for Pso {
 
     fn validate(&self, _dim: usize, n_objectives: usize) -> Result<(), Error> {
         if self.population < 2 {
-            return Err(Error::BadSettings(format!("PSO needs at least 2 particles, got {}", self.population)));
+            return Err(Error::BadSettings(format!(
+                "PSO needs at least 2 particles, got {}",
+                self.population
+            )));
         }
         if n_objectives != 1 {
-            return Err(Error::BadSettings(format!("PSO is single-objective, the problem has {n_objectives} objectives")));
+            return Err(Error::BadSettings(format!(
+                "PSO is single-objective, the problem has {n_objectives} objectives"
+            )));
         }
         if !(self.vmax_fraction.is_finite() && self.vmax_fraction > 0.0) {
-            return Err(Error::BadSettings("PSO vmax_fraction must be positive".into()));
+            return Err(Error::BadSettings(
+                "PSO vmax_fraction must be positive".into(),
+            ));
         }
         let ok = match self.variant {
-            PsoVariant::Constriction { chi, c1, c2 } => [chi, c1, c2].iter().all(|v| v.is_finite() && *v >= 0.0),
-            PsoVariant::Inertia { w_start, w_end, c1, c2 } => [w_start, w_end, c1, c2].iter().all(|v| v.is_finite() && *v >= 0.0),
+            PsoVariant::Constriction { chi, c1, c2 } => {
+                [chi, c1, c2].iter().all(|v| v.is_finite() && *v >= 0.0)
+            }
+            PsoVariant::Inertia {
+                w_start,
+                w_end,
+                c1,
+                c2,
+            } => [w_start, w_end, c1, c2]
+                .iter()
+                .all(|v| v.is_finite() && *v >= 0.0),
         };
         if !ok {
-            return Err(Error::BadSettings("PSO coefficients must be finite and non-negative".into()));
+            return Err(Error::BadSettings(
+                "PSO coefficients must be finite and non-negative".into(),
+            ));
         }
         Ok(())
     }
 
-    fn init<P: Problem + ?Sized>(&self, ev: &mut Evaluator<'_, P>, _total: usize, rng: &mut OptRng) -> PsoState {
+    fn init<P: Problem + ?Sized>(
+        &self,
+        ev: &mut Evaluator<'_, P>,
+        _total: usize,
+        rng: &mut OptRng,
+    ) -> PsoState {
         let (lo, hi) = ev.bounds();
         let d = lo.len();
         let mut x = Vec::with_capacity(self.population);
@@ -109,20 +154,45 @@ impl Algorithm for Pso {
         for _ in 0..self.population {
             let xi: Vec<f64> = (0..d).map(|j| uniform_in(rng, lo[j], hi[j])).collect();
             // Initial velocity towards a second random point, halved (SPSO-style).
-            let vi: Vec<f64> = (0..d).map(|j| 0.5 * (uniform_in(rng, lo[j], hi[j]) - xi[j])).collect();
+            let vi: Vec<f64> = (0..d)
+                .map(|j| 0.5 * (uniform_in(rng, lo[j], hi[j]) - xi[j]))
+                .collect();
             pbest.push(ev.eval(xi.clone()));
             x.push(xi);
             v.push(vi);
         }
         let gbest = best_of(&pbest);
-        PsoState { x, v, pbest, gbest, lo, hi }
+        PsoState {
+            x,
+            v,
+            pbest,
+            gbest,
+            lo,
+            hi,
+        }
     }
 
-    fn step<P: Problem + ?Sized>(&self, s: &mut PsoState, ev: &mut Evaluator<'_, P>, iteration: usize, total: usize, rng: &mut OptRng) {
+    fn step<P: Problem + ?Sized>(
+        &self,
+        s: &mut PsoState,
+        ev: &mut Evaluator<'_, P>,
+        iteration: usize,
+        total: usize,
+        rng: &mut OptRng,
+    ) {
         let (chi, w, c1, c2) = match self.variant {
             PsoVariant::Constriction { chi, c1, c2 } => (chi, 1.0, c1, c2),
-            PsoVariant::Inertia { w_start, w_end, c1, c2 } => {
-                let frac = if total > 1 { iteration as f64 / (total - 1) as f64 } else { 1.0 };
+            PsoVariant::Inertia {
+                w_start,
+                w_end,
+                c1,
+                c2,
+            } => {
+                let frac = if total > 1 {
+                    iteration as f64 / (total - 1) as f64
+                } else {
+                    1.0
+                };
                 (1.0, w_start + (w_end - w_start) * frac, c1, c2)
             }
         };
@@ -132,7 +202,10 @@ impl Algorithm for Pso {
                 let vmax = self.vmax_fraction * (s.hi[j] - s.lo[j]);
                 let (r1, r2) = (uniform(rng), uniform(rng));
                 let xij = s.x[i][j];
-                let mut vij = chi * (w * s.v[i][j] + c1 * r1 * (s.pbest[i].x[j] - xij) + c2 * r2 * (s.gbest.x[j] - xij));
+                let mut vij = chi
+                    * (w * s.v[i][j]
+                        + c1 * r1 * (s.pbest[i].x[j] - xij)
+                        + c2 * r2 * (s.gbest.x[j] - xij));
                 vij = vij.clamp(-vmax, vmax);
                 let mut nx = xij + vij;
                 if nx < s.lo[j] {
@@ -146,7 +219,9 @@ impl Algorithm for Pso {
                 s.v[i][j] = vij;
             }
             let cand = ev.eval(s.x[i].clone());
-            if better(&cand, &s.pbest[i]) || cand.violation == s.pbest[i].violation && cand.f[0] == s.pbest[i].f[0] {
+            if better(&cand, &s.pbest[i])
+                || cand.violation == s.pbest[i].violation && cand.f[0] == s.pbest[i].f[0]
+            {
                 if better(&cand, &s.gbest) {
                     s.gbest = cand.clone();
                 }
