@@ -1,1 +1,212 @@
-fn main() {}
+//! `dataset_gen`: generate single-dig datasets, merge shards, inspect files,
+//! run the optimisers on standard test problems, and measure quality and
+//! throughput on the dig problem. Every command prints JSON on stdout.
+
+use clap::{Parser, Subcommand};
+use dataset_gen::Error;
+use dataset_gen::algorithms::AnyAlgorithm;
+use dataset_gen::algorithms::nsga2::hypervolume_2d;
+use dataset_gen::batch::{self, GenConfig, RunOptions, Shard};
+use dataset_gen::rng::rng_from_seed;
+use dataset_gen::runner::{Budget, Runner};
+use dataset_gen::testfns::{TestFn, TestProblem};
+use infer::DigType;
+use std::path::PathBuf;
+
+#[derive(Parser, Debug)]
+#[command(name = "dataset_gen", version, about = "Optimiser batch runs and MCAP datasets for single digs")]
+struct Cli {
+    /// Worker threads (default: all cores). The output does not depend on it.
+    #[arg(long, global = true)]
+    threads: Option<usize>,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Optimise sampled digs into OUT/parts/*.mcap; without --shard, then
+    /// merge them into OUT/dataset.mcap. Re-running resumes.
+    Generate {
+        /// pso, gwo, gwo-random or nsga2.
+        #[arg(long, default_value = "pso")]
+        algorithm: String,
+        /// Population (default: 50 for PSO/GWO, 100 for NSGA-II, as the source).
+        #[arg(long)]
+        population: Option<usize>,
+        /// Iterations (generations) per optimisation.
+        #[arg(long, default_value_t = 100)]
+        iterations: usize,
+        /// Samples per dig type.
+        #[arg(long, default_value_t = 1800)]
+        per_type: u64,
+        /// Dig types, comma-separated (downward, backward).
+        #[arg(long, default_value = "downward,backward", value_delimiter = ',')]
+        types: Vec<String>,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        #[arg(long, default_value = "runs/dataset")]
+        out: PathBuf,
+        /// Compute only shard k of n (0-based), e.g. 0/4; merge later.
+        #[arg(long)]
+        shard: Option<String>,
+        #[arg(long, default_value_t = 64)]
+        part_size: u64,
+        /// Also store each dig's trajectory (for Foxglove).
+        #[arg(long)]
+        trajectory: bool,
+        #[arg(long)]
+        no_progress: bool,
+    },
+    /// Merge the parts of one or more output directories into one file.
+    Merge {
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+    },
+    /// Read a dataset file and print its summary.
+    Inspect { file: PathBuf },
+    /// Run an optimiser on a standard test problem (or all of them with --suite).
+    TestProblem {
+        #[arg(long, default_value = "pso")]
+        algorithm: String,
+        /// sphere, rosenbrock, rastrigin, ackley, zdt1, zdt2, zdt3.
+        #[arg(long, default_value = "sphere")]
+        function: String,
+        #[arg(long, default_value_t = 10)]
+        dim: usize,
+        #[arg(long, default_value_t = 50)]
+        population: usize,
+        #[arg(long, default_value_t = 100)]
+        iterations: usize,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Every algorithm on every problem: the four single-objective ones in
+        /// 10 and 30 dimensions, and NSGA-II on ZDT1–3 (30 variables).
+        #[arg(long)]
+        suite: bool,
+    },
+    /// Each optimiser at the source's settings vs the best with 10× iterations.
+    Quality {
+        #[arg(long, default_value_t = 100)]
+        queries: usize,
+        #[arg(long, default_value_t = 7)]
+        seed: u64,
+        #[arg(long, default_value_t = 10)]
+        multiplier: usize,
+    },
+    /// Single-dig optimisations per second at the source's settings.
+    Throughput {
+        /// pso, gwo, gwo-random, nsga2, or `all`.
+        #[arg(long, default_value = "all")]
+        algorithm: String,
+        #[arg(long, default_value_t = 200)]
+        queries: usize,
+        #[arg(long, default_value_t = 3)]
+        seed: u64,
+    },
+}
+
+fn default_population(alg: &str) -> usize {
+    if alg.starts_with("nsga") { 100 } else { 50 }
+}
+
+fn print(v: &impl serde::Serialize) -> Result<(), Error> {
+    println!("{}", serde_json::to_string_pretty(v)?);
+    Ok(())
+}
+
+fn test_problem(alg: &str, f: TestFn, dim: usize, pop: usize, iters: usize, seed: u64) -> Result<serde_json::Value, Error> {
+    let a = AnyAlgorithm::by_name(alg, pop)?;
+    let mut p = TestProblem::new(f, dim);
+    let r = a.run(&Runner::new(Budget::iterations(iters), seed), &mut p, &mut rng_from_seed(seed))?;
+    let mut v = serde_json::json!({
+        "algorithm": alg, "problem": f.name(), "dim": dim, "population": pop, "iterations": r.iterations,
+        "evaluations": r.evaluations, "seed": seed, "wall_time_s": r.wall_time_s,
+    });
+    if f.is_multi_objective() {
+        let pts: Vec<[f64; 2]> = r.front.iter().map(|i| [i.f[0], i.f[1]]).collect();
+        v["hypervolume"] = serde_json::json!(hypervolume_2d(&pts, [1.1, 1.1]));
+        v["reference_point"] = serde_json::json!([1.1, 1.1]);
+        v["front_size"] = serde_json::json!(pts.len());
+    } else {
+        v["best_fitness"] = serde_json::json!(r.best.f[0]);
+    }
+    Ok(v)
+}
+
+fn main_inner() -> Result<(), Error> {
+    let cli = Cli::parse();
+    if let Some(t) = cli.threads {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build_global()
+            .map_err(|e| Error::BadArgument(format!("thread pool: {e}")))?;
+    }
+    match cli.command {
+        Command::Generate { algorithm, population, iterations, per_type, types, seed, out, shard, part_size, trajectory, no_progress } => {
+            let alg = AnyAlgorithm::by_name(&algorithm, population.unwrap_or_else(|| default_population(&algorithm)))?;
+            let kinds = types.iter().map(|t| t.parse::<DigType>()).collect::<Result<Vec<_>, _>>()?;
+            let mut cfg = GenConfig::new(alg, per_type, seed);
+            cfg.iterations = iterations;
+            cfg.kinds = kinds;
+            cfg.part_size = part_size;
+            cfg.trajectory = trajectory;
+            let shard_spec = shard.as_deref().map(str::parse::<Shard>).transpose()?;
+            let opts = RunOptions { shard: shard_spec.unwrap_or(Shard::ALL), progress: !no_progress, max_parts: None };
+            let mut summary = batch::run(&cfg, &out, &opts)?;
+            if shard_spec.is_none() {
+                let merged = batch::merge(std::slice::from_ref(&out), &out.join("dataset.mcap"))?;
+                summary.output = merged.output;
+                // Report the distribution over the whole dataset, resumed parts included.
+                summary.per_type = merged.per_type;
+            }
+            print(&summary)
+        }
+        Command::Merge { out, dirs } => print(&batch::merge(&dirs, &out)?),
+        Command::Inspect { file } => {
+            let d = dataset_gen::dataset::read_dataset(&file)?;
+            print(&serde_json::json!({
+                "file": file, "samples": d.samples.len(), "trajectory_messages": d.trajectory_messages,
+                "metadata_keys": d.metadata.keys().collect::<Vec<_>>(),
+                "per_type": batch::summarise(&d.samples),
+            }))
+        }
+        Command::TestProblem { algorithm, function, dim, population, iterations, seed, suite } => {
+            if suite {
+                let mut out = Vec::new();
+                for f in TestFn::ALL {
+                    let algs: &[&str] = if f.is_multi_objective() { &["nsga2"] } else { &["pso", "gwo", "gwo-random", "nsga2"] };
+                    let dims: &[usize] = if f.is_multi_objective() { &[30] } else { &[10, 30] };
+                    for &a in algs {
+                        for &d in dims {
+                            out.push(test_problem(a, f, d, population, iterations, seed)?);
+                        }
+                    }
+                }
+                print(&out)
+            } else {
+                let f = TestFn::parse(&function).ok_or_else(|| Error::BadArgument(format!("unknown test problem `{function}`")))?;
+                print(&test_problem(&algorithm, f, dim, population, iterations, seed)?)
+            }
+        }
+        Command::Quality { queries, seed, multiplier } => print(&dataset_gen::quality::quality(queries, seed, multiplier, true)?),
+        Command::Throughput { algorithm, queries, seed } => {
+            let names: Vec<&str> = if algorithm == "all" { vec!["pso", "gwo", "nsga2"] } else { vec![algorithm.as_str()] };
+            let mut out = Vec::new();
+            for n in names {
+                let alg = AnyAlgorithm::by_name(n, default_population(n))?;
+                out.push(dataset_gen::quality::throughput(&alg, 100, queries, seed)?);
+            }
+            print(&out)
+        }
+    }
+}
+
+fn main() {
+    if let Err(e) = main_inner() {
+        eprintln!("error: {e}");
+        std::process::exit(1);
+    }
+}
