@@ -75,7 +75,9 @@ impl GenConfig {
             return Err(Error::BadArgument("part size must be at least 1".into()));
         }
         if self.per_type == 0 {
-            return Err(Error::BadArgument("samples per type must be at least 1".into()));
+            return Err(Error::BadArgument(
+                "samples per type must be at least 1".into(),
+            ));
         }
         Ok(())
     }
@@ -132,18 +134,37 @@ impl std::str::FromStr for Shard {
 }
 
 /// Computes sample `index` (query, optimisation, full report).
-pub fn generate_sample(cfg: &GenConfig, index: u64) -> Result<(DigSample, Option<Vec<TrajectorySample>>), Error> {
+pub fn generate_sample(
+    cfg: &GenConfig,
+    index: u64,
+) -> Result<(DigSample, Option<Vec<TrajectorySample>>), Error> {
     let kind = cfg.kind_of(index);
     let seed = derive_seed(cfg.master_seed, index);
     let mut rng = rng_from_seed(seed);
     let sampler = QuerySampler::new(cfg.model, cfg.ranges);
     let (query, unit) = sampler.sample(kind, &mut rng)?;
-    let sol = solve(&cfg.model, &query, &cfg.bounds, &cfg.algorithm, Budget::iterations(cfg.iterations), &mut rng)?;
+    let sol = solve(
+        &cfg.model,
+        &query,
+        &cfg.bounds,
+        &cfg.algorithm,
+        Budget::iterations(cfg.iterations),
+        &mut rng,
+    )?;
     let trajectory = if cfg.trajectory {
-        let mut p = DigProblem::new(&cfg.model, &query, &cfg.bounds, crate::dig_problem::DigObjective::Weighted)?;
+        let mut p = DigProblem::new(
+            &cfg.model,
+            &query,
+            &cfg.bounds,
+            crate::dig_problem::DigObjective::Weighted,
+        )?;
         p.trajectory(&infer::DigParams::from_array(sol.y))
             .ok()
-            .map(|v| v.iter().map(|s| TrajectorySample::from_sample(index, s)).collect())
+            .map(|v| {
+                v.iter()
+                    .map(|s| TrajectorySample::from_sample(index, s))
+                    .collect()
+            })
     } else {
         None
     };
@@ -209,7 +230,11 @@ pub fn summarise(samples: &[DigSample]) -> Vec<KindSummary> {
             if of.is_empty() {
                 return None;
             }
-            let feasible: Vec<f64> = of.iter().filter(|s| s.feasible).filter_map(|s| s.objective).collect();
+            let feasible: Vec<f64> = of
+                .iter()
+                .filter(|s| s.feasible)
+                .filter_map(|s| s.objective)
+                .collect();
             let times: Vec<f64> = of.iter().map(|s| s.wall_time_s).collect();
             Some(KindSummary {
                 kind,
@@ -234,7 +259,10 @@ pub fn manifest_path(dir: &Path) -> PathBuf {
 pub fn read_manifest(dir: &Path) -> Result<GenConfig, Error> {
     let path = manifest_path(dir);
     let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
-    serde_json::from_str(&text).map_err(|e| Error::BadDataset { path, detail: format!("bad manifest: {e}") })
+    serde_json::from_str(&text).map_err(|e| Error::BadDataset {
+        path,
+        detail: format!("bad manifest: {e}"),
+    })
 }
 
 /// Creates the output directory and its manifest, or checks that an existing
@@ -249,12 +277,17 @@ fn prepare_dir(cfg: &GenConfig, dir: &Path) -> Result<(), Error> {
             let a = serde_json::to_value(&old)?;
             let b = serde_json::to_value(cfg)?;
             let diff: Vec<String> = match (a, b) {
-                (serde_json::Value::Object(a), serde_json::Value::Object(b)) => {
-                    b.iter().filter(|(k, v)| a.get(*k) != Some(*v)).map(|(k, _)| k.clone()).collect()
-                }
+                (serde_json::Value::Object(a), serde_json::Value::Object(b)) => b
+                    .iter()
+                    .filter(|(k, v)| a.get(*k) != Some(*v))
+                    .map(|(k, _)| k.clone())
+                    .collect(),
                 _ => vec![],
             };
-            return Err(Error::ManifestMismatch { path: dir.to_path_buf(), detail: format!("fields differ: {}", diff.join(", ")) });
+            return Err(Error::ManifestMismatch {
+                path: dir.to_path_buf(),
+                detail: format!("fields differ: {}", diff.join(", ")),
+            });
         }
         return Ok(());
     }
@@ -288,7 +321,11 @@ pub struct RunOptions {
 
 impl Default for RunOptions {
     fn default() -> Self {
-        RunOptions { shard: Shard::ALL, progress: true, max_parts: None }
+        RunOptions {
+            shard: Shard::ALL,
+            progress: true,
+            max_parts: None,
+        }
     }
 }
 
@@ -307,17 +344,28 @@ pub fn run(cfg: &GenConfig, dir: &Path, opts: &RunOptions) -> Result<Summary, Er
             pending.push(p);
         }
     }
-    let todo: u64 = pending.iter().map(|&p| cfg.part_range(p).count() as u64).sum();
-    let bar = if opts.progress { indicatif::ProgressBar::new(todo) } else { indicatif::ProgressBar::hidden() };
+    let todo: u64 = pending
+        .iter()
+        .map(|&p| cfg.part_range(p).count() as u64)
+        .sum();
+    let bar = if opts.progress {
+        indicatif::ProgressBar::new(todo)
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
     bar.set_style(
-        indicatif::ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} samples  {per_sec}  ETA {eta}")
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        indicatif::ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} samples  {per_sec}  ETA {eta}",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     let config_json = cfg.to_json()?;
     let mut computed = Vec::new();
     // Several parts at a time keep every thread busy at part boundaries.
     let batch = rayon::current_num_threads().max(1);
-    let limit = opts.max_parts.map_or(pending.len(), |m| (m as usize).min(pending.len()));
+    let limit = opts
+        .max_parts
+        .map_or(pending.len(), |m| (m as usize).min(pending.len()));
     for group in pending[..limit].chunks(batch) {
         let indices: Vec<u64> = group.iter().flat_map(|&p| cfg.part_range(p)).collect();
         let results: Vec<_> = indices
@@ -346,7 +394,11 @@ pub fn run(cfg: &GenConfig, dir: &Path, opts: &RunOptions) -> Result<Summary, Er
         computed: computed.len() as u64,
         skipped,
         elapsed_s: elapsed,
-        samples_per_s: if elapsed > 0.0 { computed.len() as f64 / elapsed } else { 0.0 },
+        samples_per_s: if elapsed > 0.0 {
+            computed.len() as f64 / elapsed
+        } else {
+            0.0
+        },
         per_type: summarise(&computed),
         output: None,
     })
@@ -357,17 +409,27 @@ pub fn run(cfg: &GenConfig, dir: &Path, opts: &RunOptions) -> Result<Summary, Er
 /// in several directories is taken from the first.
 pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Summary, Error> {
     let started = Instant::now();
-    let first = dirs.first().ok_or_else(|| Error::Merge("no input directories".into()))?;
+    let first = dirs
+        .first()
+        .ok_or_else(|| Error::Merge("no input directories".into()))?;
     let cfg = read_manifest(first)?;
     for d in &dirs[1..] {
         if read_manifest(d)? != cfg {
-            return Err(Error::Merge(format!("{} and {} were generated with different configurations", first.display(), d.display())));
+            return Err(Error::Merge(format!(
+                "{} and {} were generated with different configurations",
+                first.display(),
+                d.display()
+            )));
         }
     }
     let mut sources = Vec::new();
     let mut missing = Vec::new();
     for p in 0..cfg.parts() {
-        match dirs.iter().map(|d| part_path(d, p)).find(|path| path.exists()) {
+        match dirs
+            .iter()
+            .map(|d| part_path(d, p))
+            .find(|path| path.exists())
+        {
             Some(path) => sources.push((p, path)),
             None => missing.push(p),
         }
@@ -388,15 +450,23 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Summary, Error> {
         let mut indices = Vec::new();
         for m in raw {
             if !m.trajectory {
-                let s: DigSample = serde_json::from_slice(&m.data)
-                    .map_err(|e| Error::BadSample { path: path.clone(), index: p, detail: e.to_string() })?;
+                let s: DigSample =
+                    serde_json::from_slice(&m.data).map_err(|e| Error::BadSample {
+                        path: path.clone(),
+                        index: p,
+                        detail: e.to_string(),
+                    })?;
                 indices.push(s.index);
                 samples.push(s);
             }
             w.write_raw(m.kind, m.trajectory, m.log_time, &m.data)?;
         }
         if !indices.iter().copied().eq(cfg.part_range(p)) {
-            return Err(Error::Merge(format!("{} does not hold exactly samples {:?}", path.display(), cfg.part_range(p))));
+            return Err(Error::Merge(format!(
+                "{} does not hold exactly samples {:?}",
+                path.display(),
+                cfg.part_range(p)
+            )));
         }
     }
     let path = w.finish()?;

@@ -100,7 +100,7 @@ impl DigProblem {
             bounds.a6_max[2] / A6_SCALE,
             bounds.duration[1],
         ];
-        if !(bounds.duration[0] > 0.0) {
+        if bounds.duration[0].is_nan() || bounds.duration[0] <= 0.0 {
             return Err(Error::BadProblem(
                 "the duration bound must be positive".into(),
             ));
@@ -246,7 +246,8 @@ impl DigSolution {
 
 /// Optimises one query with `algorithm` (PSO/GWO on the weighted objective,
 /// NSGA-II on (T, W_E, −V), then the front member with the best weighted
-/// objective by Deb's rules).
+/// objective by Deb's rules; the best feasible point by T is also a
+/// candidate, so a feasible answer is never lost).
 pub fn solve(
     cfg: &Config,
     query: &DigQuery,
@@ -265,8 +266,10 @@ pub fn solve(
     let chosen: Individual = match objective {
         DigObjective::Weighted => run.best.clone(),
         DigObjective::Pareto => {
+            // The front, plus the best point by T alone in case the front lost
+            // feasibility that some evaluated point had.
             let mut best: Option<(f64, f64, &Individual)> = None;
-            for m in &run.front {
+            for m in run.front.iter().chain(std::iter::once(&run.best)) {
                 let (f, v) = problem.weighted(&m.x);
                 if best.is_none_or(|(bf, bv, _)| compare_single(v, f, bv, bf).is_lt()) {
                     best = Some((f, v, m));

@@ -17,7 +17,8 @@ use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
 /// The source's settings: (name, population, iterations).
-pub const SOURCE_SETTINGS: [(&str, usize, usize); 3] = [("pso", 50, 100), ("gwo", 50, 100), ("nsga2", 100, 100)];
+pub const SOURCE_SETTINGS: [(&str, usize, usize); 3] =
+    [("pso", 50, 100), ("gwo", 50, 100), ("nsga2", 100, 100)];
 
 /// `n` queries alternating between the dig types, fixed by `seed`.
 pub fn fixed_queries(n: usize, seed: u64) -> Result<Vec<DigQuery>, Error> {
@@ -60,18 +61,37 @@ pub struct QualityReport {
     pub elapsed_s: f64,
 }
 
-fn run_all(cfg: &GenConfig, queries: &[DigQuery], alg: &AnyAlgorithm, iterations: usize, seed: u64) -> Result<Vec<DigSolution>, Error> {
+fn run_all(
+    cfg: &GenConfig,
+    queries: &[DigQuery],
+    alg: &AnyAlgorithm,
+    iterations: usize,
+    seed: u64,
+) -> Result<Vec<DigSolution>, Error> {
     queries
         .par_iter()
         .enumerate()
         .map(|(i, q)| {
             let mut rng = rng_from_seed(derive_seed(seed ^ 0xA5A5, i as u64));
-            solve(&cfg.model, q, &cfg.bounds, alg, Budget::iterations(iterations), &mut rng)
+            solve(
+                &cfg.model,
+                q,
+                &cfg.bounds,
+                alg,
+                Budget::iterations(iterations),
+                &mut rng,
+            )
         })
         .collect()
 }
 
-fn quality_of(name: &str, pop: usize, iters: usize, sols: &[DigSolution], best: &[Option<f64>]) -> AlgorithmQuality {
+fn quality_of(
+    name: &str,
+    pop: usize,
+    iters: usize,
+    sols: &[DigSolution],
+    best: &[Option<f64>],
+) -> AlgorithmQuality {
     let gaps: Vec<f64> = sols
         .iter()
         .zip(best)
@@ -80,7 +100,11 @@ fn quality_of(name: &str, pop: usize, iters: usize, sols: &[DigSolution], best: 
             _ => None,
         })
         .collect();
-    let feas: Vec<f64> = sols.iter().filter(|s| s.feasible()).map(|s| s.objective()).collect();
+    let feas: Vec<f64> = sols
+        .iter()
+        .filter(|s| s.feasible())
+        .map(|s| s.objective())
+        .collect();
     AlgorithmQuality {
         algorithm: name.to_string(),
         population: pop,
@@ -89,13 +113,19 @@ fn quality_of(name: &str, pop: usize, iters: usize, sols: &[DigSolution], best: 
         within_1pct: gaps.iter().filter(|g| **g <= 0.01).count() as f64 / sols.len().max(1) as f64,
         gap: Distribution::of(&gaps),
         objective: Distribution::of(&feas),
-        mean_wall_time_s: sols.iter().map(|s| s.wall_time_s).sum::<f64>() / sols.len().max(1) as f64,
+        mean_wall_time_s: sols.iter().map(|s| s.wall_time_s).sum::<f64>()
+            / sols.len().max(1) as f64,
     }
 }
 
 /// Runs every optimiser at the source's settings and at `multiplier` ×
 /// the iterations on `n` fixed queries.
-pub fn quality(n: usize, seed: u64, multiplier: usize, progress: bool) -> Result<QualityReport, Error> {
+pub fn quality(
+    n: usize,
+    seed: u64,
+    multiplier: usize,
+    progress: bool,
+) -> Result<QualityReport, Error> {
     let started = Instant::now();
     let queries = fixed_queries(n, seed)?;
     let base = GenConfig::new(AnyAlgorithm::by_name("pso", 50)?, 1, seed);
@@ -110,13 +140,22 @@ pub fn quality(n: usize, seed: u64, multiplier: usize, progress: bool) -> Result
         if progress {
             eprintln!("{name}: {pop} x {} on {n} queries ...", iters * multiplier);
         }
-        long.push(run_all(&base, &queries, &alg, iters * multiplier, seed.wrapping_add(1))?);
+        long.push(run_all(
+            &base,
+            &queries,
+            &alg,
+            iters * multiplier,
+            seed.wrapping_add(1),
+        )?);
     }
     let best: Vec<Option<f64>> = (0..n)
         .map(|i| {
             let mut b: Option<(f64, f64)> = None;
             for s in normal.iter().chain(&long).map(|v| &v[i]) {
-                let (f, v) = (s.objective(), s.report.map_or(f64::INFINITY, |r| r.total_violation()));
+                let (f, v) = (
+                    s.objective(),
+                    s.report.map_or(f64::INFINITY, |r| r.total_violation()),
+                );
                 if b.is_none_or(|(bf, bv)| compare_single(v, f, bv, bf).is_lt()) {
                     b = Some((f, v));
                 }
@@ -125,9 +164,16 @@ pub fn quality(n: usize, seed: u64, multiplier: usize, progress: bool) -> Result
         })
         .collect();
     let feasible_best: Vec<f64> = best.iter().flatten().copied().collect();
-    let algorithms = SOURCE_SETTINGS.iter().zip(&normal).map(|(&(nm, p, it), s)| quality_of(nm, p, it, s, &best)).collect();
-    let reference_runs =
-        SOURCE_SETTINGS.iter().zip(&long).map(|(&(nm, p, it), s)| quality_of(nm, p, it * multiplier, s, &best)).collect();
+    let algorithms = SOURCE_SETTINGS
+        .iter()
+        .zip(&normal)
+        .map(|(&(nm, p, it), s)| quality_of(nm, p, it, s, &best))
+        .collect();
+    let reference_runs = SOURCE_SETTINGS
+        .iter()
+        .zip(&long)
+        .map(|(&(nm, p, it), s)| quality_of(nm, p, it * multiplier, s, &best))
+        .collect();
     Ok(QualityReport {
         queries: n,
         seed,
@@ -153,7 +199,12 @@ pub struct Throughput {
 }
 
 /// Single-dig optimisations per second over `n` queries on all threads.
-pub fn throughput(alg: &AnyAlgorithm, iterations: usize, n: usize, seed: u64) -> Result<Throughput, Error> {
+pub fn throughput(
+    alg: &AnyAlgorithm,
+    iterations: usize,
+    n: usize,
+    seed: u64,
+) -> Result<Throughput, Error> {
     let queries = fixed_queries(n, seed)?;
     let base = GenConfig::new(alg.clone(), 1, seed);
     let started = Instant::now();

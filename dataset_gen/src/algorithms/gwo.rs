@@ -78,7 +78,10 @@ pub fn good_point_set(n: usize, d: usize) -> Vec<Vec<f64>> {
 }
 
 fn is_prime(n: usize) -> bool {
-    n >= 2 && (2..).take_while(|i| i * i <= n).all(|i| n % i != 0)
+    n >= 2
+        && (2..)
+            .take_while(|i| i * i <= n)
+            .all(|i| !n.is_multiple_of(i))
 }
 
 fn update_leaders(leaders: &mut Vec<Individual>, cand: &Individual) {

@@ -225,12 +225,11 @@ fn sbx(x1: f64, x2: f64, lo: f64, hi: f64, eta: f64, rng: &mut OptRng) -> (f64, 
     let u = uniform(rng);
     let child = |beta: f64| {
         let alpha = 2.0 - beta.powf(-(eta + 1.0));
-        let betaq = if u <= 1.0 / alpha {
+        if u <= 1.0 / alpha {
             (u * alpha).powf(1.0 / (eta + 1.0))
         } else {
             (1.0 / (2.0 - u * alpha)).powf(1.0 / (eta + 1.0))
-        };
-        betaq
+        }
     };
     let b1 = 1.0 + 2.0 * (y1 - lo) / (y2 - y1);
     let c1 = 0.5 * ((y1 + y2) - child(b1) * (y2 - y1));
@@ -353,9 +352,9 @@ impl Algorithm for Nsga2 {
                 }
             }
             for c in [&mut c1, &mut c2] {
-                for j in 0..d {
+                for (j, cj) in c.iter_mut().enumerate() {
                     if uniform(rng) < pm {
-                        c[j] = polynomial_mutation(c[j], s.lo[j], s.hi[j], self.eta_m, rng);
+                        *cj = polynomial_mutation(*cj, s.lo[j], s.hi[j], self.eta_m, rng);
                     }
                 }
             }

@@ -14,7 +14,11 @@ use infer::DigType;
 use std::path::PathBuf;
 
 #[derive(Parser, Debug)]
-#[command(name = "dataset_gen", version, about = "Optimiser batch runs and MCAP datasets for single digs")]
+#[command(
+    name = "dataset_gen",
+    version,
+    about = "Optimiser batch runs and MCAP datasets for single digs"
+)]
 struct Cli {
     /// Worker threads (default: all cores). The output does not depend on it.
     #[arg(long, global = true)]
@@ -117,10 +121,21 @@ fn print(v: &impl serde::Serialize) -> Result<(), Error> {
     Ok(())
 }
 
-fn test_problem(alg: &str, f: TestFn, dim: usize, pop: usize, iters: usize, seed: u64) -> Result<serde_json::Value, Error> {
+fn test_problem(
+    alg: &str,
+    f: TestFn,
+    dim: usize,
+    pop: usize,
+    iters: usize,
+    seed: u64,
+) -> Result<serde_json::Value, Error> {
     let a = AnyAlgorithm::by_name(alg, pop)?;
     let mut p = TestProblem::new(f, dim);
-    let r = a.run(&Runner::new(Budget::iterations(iters), seed), &mut p, &mut rng_from_seed(seed))?;
+    let r = a.run(
+        &Runner::new(Budget::iterations(iters), seed),
+        &mut p,
+        &mut rng_from_seed(seed),
+    )?;
     let mut v = serde_json::json!({
         "algorithm": alg, "problem": f.name(), "dim": dim, "population": pop, "iterations": r.iterations,
         "evaluations": r.evaluations, "seed": seed, "wall_time_s": r.wall_time_s,
@@ -145,16 +160,38 @@ fn main_inner() -> Result<(), Error> {
             .map_err(|e| Error::BadArgument(format!("thread pool: {e}")))?;
     }
     match cli.command {
-        Command::Generate { algorithm, population, iterations, per_type, types, seed, out, shard, part_size, trajectory, no_progress } => {
-            let alg = AnyAlgorithm::by_name(&algorithm, population.unwrap_or_else(|| default_population(&algorithm)))?;
-            let kinds = types.iter().map(|t| t.parse::<DigType>()).collect::<Result<Vec<_>, _>>()?;
+        Command::Generate {
+            algorithm,
+            population,
+            iterations,
+            per_type,
+            types,
+            seed,
+            out,
+            shard,
+            part_size,
+            trajectory,
+            no_progress,
+        } => {
+            let alg = AnyAlgorithm::by_name(
+                &algorithm,
+                population.unwrap_or_else(|| default_population(&algorithm)),
+            )?;
+            let kinds = types
+                .iter()
+                .map(|t| t.parse::<DigType>())
+                .collect::<Result<Vec<_>, _>>()?;
             let mut cfg = GenConfig::new(alg, per_type, seed);
             cfg.iterations = iterations;
             cfg.kinds = kinds;
             cfg.part_size = part_size;
             cfg.trajectory = trajectory;
             let shard_spec = shard.as_deref().map(str::parse::<Shard>).transpose()?;
-            let opts = RunOptions { shard: shard_spec.unwrap_or(Shard::ALL), progress: !no_progress, max_parts: None };
+            let opts = RunOptions {
+                shard: shard_spec.unwrap_or(Shard::ALL),
+                progress: !no_progress,
+                max_parts: None,
+            };
             let mut summary = batch::run(&cfg, &out, &opts)?;
             if shard_spec.is_none() {
                 let merged = batch::merge(std::slice::from_ref(&out), &out.join("dataset.mcap"))?;
@@ -173,12 +210,28 @@ fn main_inner() -> Result<(), Error> {
                 "per_type": batch::summarise(&d.samples),
             }))
         }
-        Command::TestProblem { algorithm, function, dim, population, iterations, seed, suite } => {
+        Command::TestProblem {
+            algorithm,
+            function,
+            dim,
+            population,
+            iterations,
+            seed,
+            suite,
+        } => {
             if suite {
                 let mut out = Vec::new();
                 for f in TestFn::ALL {
-                    let algs: &[&str] = if f.is_multi_objective() { &["nsga2"] } else { &["pso", "gwo", "gwo-random", "nsga2"] };
-                    let dims: &[usize] = if f.is_multi_objective() { &[30] } else { &[10, 30] };
+                    let algs: &[&str] = if f.is_multi_objective() {
+                        &["nsga2"]
+                    } else {
+                        &["pso", "gwo", "gwo-random", "nsga2"]
+                    };
+                    let dims: &[usize] = if f.is_multi_objective() {
+                        &[30]
+                    } else {
+                        &[10, 30]
+                    };
                     for &a in algs {
                         for &d in dims {
                             out.push(test_problem(a, f, d, population, iterations, seed)?);
@@ -187,13 +240,31 @@ fn main_inner() -> Result<(), Error> {
                 }
                 print(&out)
             } else {
-                let f = TestFn::parse(&function).ok_or_else(|| Error::BadArgument(format!("unknown test problem `{function}`")))?;
-                print(&test_problem(&algorithm, f, dim, population, iterations, seed)?)
+                let f = TestFn::parse(&function).ok_or_else(|| {
+                    Error::BadArgument(format!("unknown test problem `{function}`"))
+                })?;
+                print(&test_problem(
+                    &algorithm, f, dim, population, iterations, seed,
+                )?)
             }
         }
-        Command::Quality { queries, seed, multiplier } => print(&dataset_gen::quality::quality(queries, seed, multiplier, true)?),
-        Command::Throughput { algorithm, queries, seed } => {
-            let names: Vec<&str> = if algorithm == "all" { vec!["pso", "gwo", "nsga2"] } else { vec![algorithm.as_str()] };
+        Command::Quality {
+            queries,
+            seed,
+            multiplier,
+        } => print(&dataset_gen::quality::quality(
+            queries, seed, multiplier, true,
+        )?),
+        Command::Throughput {
+            algorithm,
+            queries,
+            seed,
+        } => {
+            let names: Vec<&str> = if algorithm == "all" {
+                vec!["pso", "gwo", "nsga2"]
+            } else {
+                vec![algorithm.as_str()]
+            };
             let mut out = Vec::new();
             for n in names {
                 let alg = AnyAlgorithm::by_name(n, default_population(n))?;

@@ -1,7 +1,7 @@
 //! Reads dataset files back (for `train`, `eval`, merge and resume), with
 //! clear errors for truncated or corrupt files.
 
-use super::schema::DigSample;
+use super::schema::{DigSample, TrajectorySample};
 use super::{METADATA_NAME, topic, trajectory_topic};
 use crate::error::Error;
 use infer::DigType;
@@ -28,7 +28,9 @@ impl Dataset {
 
     /// The generating configuration as JSON, if recorded.
     pub fn config(&self) -> Option<serde_json::Value> {
-        self.metadata.get("config").and_then(|c| serde_json::from_str(c).ok())
+        self.metadata
+            .get("config")
+            .and_then(|c| serde_json::from_str(c).ok())
     }
 }
 
@@ -42,7 +44,10 @@ pub struct RawMessage {
 }
 
 fn corrupt(path: &Path, e: impl std::fmt::Display) -> Error {
-    Error::CorruptMcap { path: path.to_path_buf(), detail: e.to_string() }
+    Error::CorruptMcap {
+        path: path.to_path_buf(),
+        detail: e.to_string(),
+    }
 }
 
 /// Reads the whole file and checks both magics and the footer.
@@ -53,7 +58,9 @@ fn load(path: &Path) -> Result<Vec<u8>, Error> {
         return Err(corrupt(path, "missing MCAP magic at the start"));
     }
     if buf.len() < 2 * MAGIC.len() || &buf[buf.len() - MAGIC.len()..] != MAGIC {
-        return Err(Error::TruncatedMcap { path: path.to_path_buf() });
+        return Err(Error::TruncatedMcap {
+            path: path.to_path_buf(),
+        });
     }
     mcap::read::footer(&buf).map_err(|e| corrupt(path, e))?;
     Ok(buf)
@@ -87,13 +94,22 @@ pub fn read_raw(path: &Path) -> Result<(BTreeMap<String, String>, Vec<RawMessage
         detail: format!("no `{METADATA_NAME}` metadata record: not a dataset_gen file"),
     })?;
     let mut out = Vec::new();
-    for m in mcap::MessageStream::new(&buf).map_err(|e| corrupt(path, e))? {
+    // Chunk CRCs are written by our writer; checking them catches flipped bytes anywhere in the data.
+    let stream =
+        mcap::MessageStream::new_with_options(&buf, mcap::read::Options::ValidateChunkCrcs.into())
+            .map_err(|e| corrupt(path, e))?;
+    for m in stream {
         let m = m.map_err(|e| corrupt(path, e))?;
         let (kind, trajectory) = topic_kind(&m.channel.topic).ok_or_else(|| Error::BadDataset {
             path: path.to_path_buf(),
             detail: format!("unexpected topic `{}`", m.channel.topic),
         })?;
-        out.push(RawMessage { kind, trajectory, log_time: m.log_time, data: m.data.into_owned() });
+        out.push(RawMessage {
+            kind,
+            trajectory,
+            log_time: m.log_time,
+            data: m.data.into_owned(),
+        });
     }
     Ok((metadata, out))
 }
@@ -105,6 +121,11 @@ pub fn read_dataset(path: &Path) -> Result<Dataset, Error> {
     let mut trajectory_messages = 0;
     for (n, m) in raw.iter().enumerate() {
         if m.trajectory {
+            serde_json::from_slice::<TrajectorySample>(&m.data).map_err(|e| Error::BadSample {
+                path: path.to_path_buf(),
+                index: n as u64,
+                detail: format!("trajectory message: {e}"),
+            })?;
             trajectory_messages += 1;
             continue;
         }
@@ -114,9 +135,18 @@ pub fn read_dataset(path: &Path) -> Result<Dataset, Error> {
             detail: e.to_string(),
         })?;
         if s.kind != m.kind {
-            return Err(Error::BadSample { path: path.to_path_buf(), index: s.index, detail: "dig type differs from its topic".into() });
+            return Err(Error::BadSample {
+                path: path.to_path_buf(),
+                index: s.index,
+                detail: "dig type differs from its topic".into(),
+            });
         }
         samples.push(s);
     }
-    Ok(Dataset { path: path.to_path_buf(), metadata, samples, trajectory_messages })
+    Ok(Dataset {
+        path: path.to_path_buf(),
+        metadata,
+        samples,
+        trajectory_messages,
+    })
 }

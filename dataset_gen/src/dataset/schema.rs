@@ -52,7 +52,10 @@ pub struct DigSample {
 impl DigSample {
     /// The sample with `wall_time_s` zeroed, for content comparisons.
     pub fn without_timing(&self) -> DigSample {
-        DigSample { wall_time_s: 0.0, ..self.clone() }
+        DigSample {
+            wall_time_s: 0.0,
+            ..self.clone()
+        }
     }
 }
 

@@ -30,7 +30,9 @@ pub struct DatasetWriter {
 
 impl std::fmt::Debug for DatasetWriter {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("DatasetWriter").field("path", &self.path).finish()
+        f.debug_struct("DatasetWriter")
+            .field("path", &self.path)
+            .finish()
     }
 }
 
@@ -38,8 +40,14 @@ impl std::fmt::Debug for DatasetWriter {
 pub fn metadata_map(config_json: &str) -> BTreeMap<String, String> {
     BTreeMap::from([
         ("config".to_string(), config_json.to_string()),
-        ("dataset_gen_version".to_string(), env!("CARGO_PKG_VERSION").to_string()),
-        ("infer_version".to_string(), env!("CARGO_PKG_VERSION").to_string()),
+        (
+            "dataset_gen_version".to_string(),
+            env!("CARGO_PKG_VERSION").to_string(),
+        ),
+        (
+            "infer_version".to_string(),
+            env!("CARGO_PKG_VERSION").to_string(),
+        ),
         ("mcap_crate_version".to_string(), "0.26".to_string()),
         ("format_version".to_string(), FORMAT_VERSION.to_string()),
     ])
@@ -69,7 +77,10 @@ impl DatasetWriter {
         let traj_schema = serde_json::to_vec(&trajectory_schema())?;
         let s_id = inner.add_schema("dataset_gen.DigSample", "jsonschema", &sample_schema)?;
         let t_id = inner.add_schema("dataset_gen.TrajectorySample", "jsonschema", &traj_schema)?;
-        let mut channels = [Channels { sample: 0, trajectory: 0 }; 2];
+        let mut channels = [Channels {
+            sample: 0,
+            trajectory: 0,
+        }; 2];
         for kind in DigType::ALL {
             let md = BTreeMap::from([("dig_type".to_string(), kind.name().to_string())]);
             channels[kind_slot(kind)] = Channels {
@@ -77,24 +88,51 @@ impl DatasetWriter {
                 trajectory: inner.add_channel(t_id, &trajectory_topic(kind), "json", &md)?,
             };
         }
-        inner.write_metadata(&Metadata { name: METADATA_NAME.to_string(), metadata: metadata_map(config_json) })?;
-        Ok(DatasetWriter { inner, channels, sequence: 0, tmp, path: path.to_path_buf() })
+        inner.write_metadata(&Metadata {
+            name: METADATA_NAME.to_string(),
+            metadata: metadata_map(config_json),
+        })?;
+        Ok(DatasetWriter {
+            inner,
+            channels,
+            sequence: 0,
+            tmp,
+            path: path.to_path_buf(),
+        })
     }
 
     /// Writes a sample and, if given, its trajectory.
-    pub fn write_sample(&mut self, sample: &DigSample, trajectory: Option<&[TrajectorySample]>) -> Result<(), Error> {
+    pub fn write_sample(
+        &mut self,
+        sample: &DigSample,
+        trajectory: Option<&[TrajectorySample]>,
+    ) -> Result<(), Error> {
         let data = serde_json::to_vec(sample)?;
-        self.write_raw(sample.kind, false, sample.index.saturating_mul(SLOT_NS), &data)?;
+        self.write_raw(
+            sample.kind,
+            false,
+            sample.index.saturating_mul(SLOT_NS),
+            &data,
+        )?;
         for t in trajectory.unwrap_or_default() {
             let data = serde_json::to_vec(t)?;
-            let time = sample.index.saturating_mul(SLOT_NS).saturating_add((t.t * 1e9).round() as u64);
+            let time = sample
+                .index
+                .saturating_mul(SLOT_NS)
+                .saturating_add((t.t * 1e9).round() as u64);
             self.write_raw(sample.kind, true, time, &data)?;
         }
         Ok(())
     }
 
     /// Writes an already-encoded message (used by merge).
-    pub fn write_raw(&mut self, kind: DigType, trajectory: bool, log_time: u64, data: &[u8]) -> Result<(), Error> {
+    pub fn write_raw(
+        &mut self,
+        kind: DigType,
+        trajectory: bool,
+        log_time: u64,
+        data: &[u8],
+    ) -> Result<(), Error> {
         let ch = self.channels[kind_slot(kind)];
         let header = MessageHeader {
             channel_id: if trajectory { ch.trajectory } else { ch.sample },
@@ -111,7 +149,9 @@ impl DatasetWriter {
     pub fn finish(mut self) -> Result<PathBuf, Error> {
         self.inner.finish()?;
         let buf = self.inner.into_inner();
-        let file = buf.into_inner().map_err(|e| Error::io(&self.tmp, e.into_error()))?;
+        let file = buf
+            .into_inner()
+            .map_err(|e| Error::io(&self.tmp, e.into_error()))?;
         file.sync_all().map_err(|e| Error::io(&self.tmp, e))?;
         drop(file);
         std::fs::rename(&self.tmp, &self.path).map_err(|e| Error::io(&self.path, e))?;
