@@ -22,10 +22,16 @@ pub mod error;
 pub mod kinematics;
 pub mod math;
 pub mod network;
+#[cfg(feature = "std")]
+pub mod plan;
+pub mod planner;
+pub mod predictor;
 pub mod query;
+pub mod repair;
 pub mod resistance;
 pub mod terrain;
 pub mod trajectory;
+pub mod trench;
 
 pub use config::{Config, DigAngles, Machine, Objective, Soil};
 pub use dig::{
@@ -34,6 +40,10 @@ pub use dig::{
 pub use error::Error;
 pub use kinematics::{Elbow, Pose, forward, inverse, tip_jacobian};
 pub use math::{deg, to_deg};
+pub use planner::{PlanError, PlanState, PlannedDig, Planner, PlannerSettings};
+pub use predictor::{DigPredictor, NetworkPair, RefinePredictor};
 pub use query::{DigQuery, QueryRanges};
+pub use repair::{Outcome, RepairSettings};
 pub use terrain::{CarveBuffer, Terrain};
 pub use trajectory::{DigParams, JointState, Trajectory};
+pub use trench::{DesignProfile, ProfileMetrics, TaskError, TrenchTask};

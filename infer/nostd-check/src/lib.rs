@@ -23,3 +23,24 @@ pub extern "C" fn infer_reference_objective() -> f64 {
         Err(_) => -1.0,
     }
 }
+
+/// Digs of task A planned with a fixed Y through the planner's no-heap step
+/// API, or −1 on a bad task; shows the planner builds without `std`.
+#[unsafe(no_mangle)]
+pub extern "C" fn infer_plan_task_a_digs() -> i32 {
+    struct Fixed;
+    impl infer::DigPredictor for Fixed {
+        fn predict(&mut self, _: &DigQuery) -> Result<DigParams, infer::Error> {
+            Ok(DigParams::from_array([4.469e-5, 4.926e-5, 1.0e-7, 7.011]))
+        }
+    }
+    let cfg = Config::default();
+    let Ok(planner) = infer::Planner::new(&cfg, &infer::PlannerSettings::default()) else { return -1 };
+    let Some(task) = infer::TrenchTask::reference('A') else { return -1 };
+    let Ok(mut state) = planner.start(&task) else { return -1 };
+    let mut n = 0;
+    while let Ok(Some(_)) = planner.next_dig(&mut state, &mut Fixed) {
+        n += 1;
+    }
+    n
+}

@@ -1,0 +1,182 @@
+//! `plan`: plan a trenching task into a feasible sequence of digs and write
+//! the plan as JSON and an SVG picture.
+
+use clap::Parser;
+use infer::network::NetworkFile;
+use infer::plan::{Plan, svg};
+use infer::{
+    Config, DigPredictor, NetworkPair, Planner, PlannerSettings, RefinePredictor, TrenchTask,
+};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(Parser, Debug)]
+#[command(
+    about = "Plan a trench (spec §9) into feasible digs and write the plan as JSON and SVG",
+    allow_negative_numbers = true
+)]
+struct Args {
+    /// One of the spec's tasks A, B, C or D.
+    #[arg(long, conflicts_with_all = ["task_file", "length"])]
+    task: Option<char>,
+    /// A task file (TOML or JSON): length, depth (m), slope_far_deg, slope_near_deg, [far_edge] (m).
+    #[arg(long)]
+    task_file: Option<PathBuf>,
+    /// Top length L (m).
+    #[arg(long, short = 'L', requires_all = ["depth", "slope_far", "slope_near"])]
+    length: Option<f64>,
+    /// Depth D (m).
+    #[arg(long, short = 'D')]
+    depth: Option<f64>,
+    /// Slope β1 of the far wall, where digging starts (degrees).
+    #[arg(long)]
+    slope_far: Option<f64>,
+    /// Slope β2 of the near wall (degrees).
+    #[arg(long)]
+    slope_near: Option<f64>,
+    /// x of the far top edge, the initial digging position (m).
+    #[arg(long, default_value_t = TrenchTask::DEFAULT_FAR_EDGE)]
+    far_edge: f64,
+    /// Directory holding network_downward.json and network_backward.json.
+    #[arg(long, default_value = "artifacts")]
+    networks: PathBuf,
+    /// Ignore the networks and predict each dig by a local refinement (slow; for use before training).
+    #[arg(long)]
+    refine: bool,
+    /// Output file stem: writes STEM.json and STEM.svg.
+    #[arg(long, short = 'o', default_value = "plan")]
+    out: PathBuf,
+    /// Model parameters as JSON (any field left out keeps its default).
+    #[arg(long)]
+    config: Option<PathBuf>,
+}
+
+/// A task file, angles in degrees.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TaskFile {
+    length: f64,
+    depth: f64,
+    slope_far_deg: f64,
+    slope_near_deg: f64,
+    far_edge: Option<f64>,
+}
+
+fn main() -> ExitCode {
+    match run(Args::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn read_task(args: &Args) -> Result<(TrenchTask, String), String> {
+    if let Some(name) = args.task {
+        let t = TrenchTask::reference(name)
+            .ok_or_else(|| format!("unknown task `{name}` (expected A, B, C or D)"))?;
+        return Ok((t, format!("task {}", name.to_ascii_uppercase())));
+    }
+    if let Some(path) = &args.task_file {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let f: TaskFile = if path.extension().is_some_and(|e| e == "json") {
+            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?
+        } else {
+            toml::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?
+        };
+        let mut t = TrenchTask::new_deg(f.length, f.depth, f.slope_far_deg, f.slope_near_deg);
+        t.far_edge = f.far_edge.unwrap_or(args.far_edge);
+        return Ok((t, path.display().to_string()));
+    }
+    match (args.length, args.depth, args.slope_far, args.slope_near) {
+        (Some(l), Some(d), Some(b1), Some(b2)) => {
+            let mut t = TrenchTask::new_deg(l, d, b1, b2);
+            t.far_edge = args.far_edge;
+            Ok((t, format!("L {l} m, D {d} m, β1 {b1}°, β2 {b2}°")))
+        }
+        _ => Err(
+            "give --task A|B|C|D, --task-file FILE, or -L, -D, --slope-far and --slope-near".into(),
+        ),
+    }
+}
+
+fn load_networks(dir: &Path) -> Result<(NetworkFile, NetworkFile), String> {
+    let load = |kind: &str| -> Result<NetworkFile, String> {
+        let path = dir.join(format!("network_{kind}.json"));
+        let text = std::fs::read_to_string(&path).map_err(|e| {
+            format!(
+                "{}: {e} (trained networks are needed; give --networks DIR, or --refine to plan without them)",
+                path.display()
+            )
+        })?;
+        NetworkFile::from_json(&text).map_err(|e| format!("{}: {e}", path.display()))
+    };
+    Ok((load("downward")?, load("backward")?))
+}
+
+fn run(args: Args) -> Result<(), String> {
+    let cfg: Config = match &args.config {
+        Some(path) => {
+            let text =
+                std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?
+        }
+        None => Config::default(),
+    };
+    cfg.validate().map_err(|e| e.to_string())?;
+    let (task, title) = read_task(&args)?;
+    let planner = Planner::new(&cfg, &PlannerSettings::default()).map_err(|e| e.to_string())?;
+    planner.digs_for(&task).map_err(|e| e.to_string())?;
+    let plan: Plan = if args.refine {
+        let mut p = RefinePredictor::new(&cfg, 400).map_err(|e| e.to_string())?;
+        planner.plan(&task, &mut p as &mut dyn DigPredictor)
+    } else {
+        let (down, back) = load_networks(&args.networks)?;
+        let mut pair = NetworkPair {
+            downward: down.network().map_err(|e| e.to_string())?,
+            backward: back.network().map_err(|e| e.to_string())?,
+        };
+        planner.plan(&task, &mut pair)
+    }
+    .map_err(|e| e.to_string())?;
+
+    let json = args.out.with_extension("json");
+    let pic = args.out.with_extension("svg");
+    std::fs::write(&json, plan.to_json()).map_err(|e| format!("{}: {e}", json.display()))?;
+    std::fs::write(&pic, svg(&plan, &title)).map_err(|e| format!("{}: {e}", pic.display()))?;
+
+    println!(
+        "{title}: {} digs planned in {:.1} ms",
+        plan.digs.len(),
+        plan.planning_seconds * 1e3
+    );
+    for r in &plan.digs {
+        let d = &r.dig;
+        println!(
+            "  dig {} {:8} {:9} V {:6.0} cm³  T {:5.2} s  W_E {:.4} Wh  θ_p {:5.1}°  objective {:.3}{}",
+            d.index + 1,
+            d.kind.name(),
+            format!("{:?}", d.outcome).to_lowercase(),
+            d.report.volume * 1e6,
+            d.report.duration,
+            d.report.energy_wh(),
+            d.report.dig_angle.to_degrees(),
+            d.report.objective,
+            d.moved_from
+                .map(|b| format!("  (machine moved {:.3} m back)", b - d.base_x))
+                .unwrap_or_default()
+        );
+    }
+    let m = plan.metrics;
+    println!(
+        "profile: under-dug {:.2} %, over-dug {:.2} % of the design area {:.0} cm²; deepest over-dig {:.1} mm",
+        m.under_dug * 100.0,
+        m.over_dug * 100.0,
+        m.design_area * 1e4,
+        m.max_over_depth * 1e3
+    );
+    println!("wrote {} and {}", json.display(), pic.display());
+    Ok(())
+}

@@ -1,0 +1,526 @@
+//! Validate a predicted dig with the exact model and repair it when it
+//! breaks a hard constraint (spec §10): first rescale its duration, then run
+//! a short, bounded local refinement seeded by the prediction; if it is
+//! still infeasible, name the constraint. An infeasible dig is never
+//! returned as a repaired one.
+//!
+//! **Duration rescaling keeps the path.** With s = t/T, a joint follows
+//! θ_i = θ_s,i + Δ_i p(s) + a_i6 T⁶ s³ (s − 1)³, so the geometric path in
+//! joint space depends on a_i6 only through c_i = a_i6 T⁶. Stretching time
+//! by k (T' = k T, a_i6' = a_i6 / k⁶) keeps c_i and the path, and scales
+//! joint speeds by 1/k and accelerations by 1/k². Power scales by about 1/k
+//! (the inertial part of the torque falls, gravity and resistance stay).
+//!
+//! **Refinement** is a Nelder–Mead search over z = [c1, c2, c3] / 0.05 rad
+//! and T, with T clamped to [t_min, t_max], minimising the dig objective
+//! plus a penalty times the total normalised violation, under a hard budget
+//! of evaluations. Everything is on the stack.
+//!
+//! A [`DesignGuard`] adds one constraint the trench planner needs and the
+//! single-dig problem does not know: the tip may not cut (much) below the
+//! task's design profile.
+
+// Errors carry the violated constraint by value: no heap in `no_std`, so no Box.
+#![allow(clippy::result_large_err)]
+
+use crate::config::Config;
+use crate::dig::{Check, DigReport, DigTask, Ground, evaluate_with};
+use crate::error::Error;
+use crate::terrain::CarveBuffer;
+use crate::trajectory::DigParams;
+use crate::trench::DesignProfile;
+use serde::{Deserialize, Serialize};
+
+/// How a validated dig came about.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Outcome {
+    /// The prediction was feasible as it was.
+    Predicted,
+    /// Stretching (or shortening) its duration made it feasible.
+    Rescaled,
+    /// The bounded local refinement made it feasible.
+    Refined,
+}
+
+/// The constraint a dig must also meet inside a trench: the new cut may go
+/// at most `max_depth` below the design surface and may remove at most
+/// `max_area` of material below it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DesignGuard {
+    pub profile: DesignProfile,
+    /// Largest depth the tip may cut below the design surface \[m\].
+    pub max_depth: f64,
+    /// Largest cross-section area one dig may cut below it \[m²\].
+    pub max_area: f64,
+}
+
+/// What a dig cut below the design surface (new cut only; ground already
+/// below the design is not counted again).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct OverDig {
+    /// Deepest new cut below the design surface \[m\].
+    pub max_depth: f64,
+    /// Area of new cut below the design surface \[m²\], integrated along the tip path.
+    pub area: f64,
+}
+
+impl DesignGuard {
+    /// Normalised violation of the guard (0 when satisfied).
+    pub fn violation(&self, o: &OverDig) -> f64 {
+        (o.max_depth - self.max_depth).max(0.0) / 0.05
+            + (o.area - self.max_area).max(0.0) / self.max_area.max(1e-6)
+    }
+}
+
+/// The constraint a dig breaks worst.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Violation {
+    /// One of the model's hard constraints (spec §6).
+    Check(Check),
+    /// The design profile of the task.
+    OverDig {
+        over_dig: OverDig,
+        guard_depth: f64,
+        guard_area: f64,
+    },
+}
+
+impl core::fmt::Display for Violation {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Violation::Check(c) => {
+                let which = if c.margin() < 0.0 && c.lower.is_some_and(|l| c.min < l) {
+                    ("below", c.min, c.lower.unwrap_or(0.0))
+                } else {
+                    ("above", c.max, c.upper.unwrap_or(0.0))
+                };
+                write!(
+                    f,
+                    "{c} {} its limit ({:.6e} vs {:.6e}, SI units)",
+                    which.0, which.1, which.2
+                )
+            }
+            Violation::OverDig {
+                over_dig,
+                guard_depth,
+                guard_area,
+            } => write!(
+                f,
+                "over-dig below the design profile ({:.1} mm deep, {:.1} cm² of area; limits {:.1} mm, {:.1} cm²)",
+                over_dig.max_depth * 1e3,
+                over_dig.area * 1e4,
+                guard_depth * 1e3,
+                guard_area * 1e4
+            ),
+        }
+    }
+}
+
+/// One dig under the exact model, with the trench's guard.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Assessment {
+    pub report: DigReport,
+    pub over_dig: OverDig,
+    /// Every check holds and the guard (if any) is met.
+    pub feasible: bool,
+    /// Total normalised violation, checks plus guard.
+    pub violation: f64,
+}
+
+impl Assessment {
+    /// The worst violated constraint, the guard included.
+    pub fn worst(&self, guard: Option<&DesignGuard>) -> Option<Violation> {
+        let check = self.report.worst_violation().copied();
+        let over = guard.and_then(|g| {
+            let v = g.violation(&self.over_dig);
+            (v > 0.0).then_some((
+                v,
+                Violation::OverDig {
+                    over_dig: self.over_dig,
+                    guard_depth: g.max_depth,
+                    guard_area: g.max_area,
+                },
+            ))
+        });
+        match (check, over) {
+            (Some(c), Some((v, o))) => Some(if v > c.violation() {
+                o
+            } else {
+                Violation::Check(c)
+            }),
+            (Some(c), None) => Some(Violation::Check(c)),
+            (None, Some((_, o))) => Some(o),
+            (None, None) => None,
+        }
+    }
+}
+
+/// Evaluates `params` and measures its cut below the guard's design profile.
+/// The carved surface is left in `scratch`.
+pub fn assess(
+    cfg: &Config,
+    task: &DigTask,
+    params: &DigParams,
+    ground: Ground<'_>,
+    scratch: &mut CarveBuffer,
+    guard: Option<&DesignGuard>,
+) -> Result<Assessment, Error> {
+    let mut over = OverDig::default();
+    let mut prev: Option<([f64; 2], f64)> = None;
+    let terrain = ground.terrain;
+    let report = evaluate_with(cfg, task, params, ground, scratch, |s| {
+        let Some(g) = guard else { return };
+        // New cut below the design: max(0, min(design, surface) − y).
+        let x = s.tip[0];
+        let surface = terrain.height_at(x).unwrap_or(f64::INFINITY);
+        let d = (g.profile.height_at(x).min(surface) - s.tip[1]).max(0.0);
+        over.max_depth = over.max_depth.max(d);
+        if let Some((p, pd)) = prev {
+            over.area += 0.5 * (pd + d) * (x - p[0]).abs();
+        }
+        prev = Some((s.tip, d));
+    })?;
+    let guard_violation = guard.map_or(0.0, |g| g.violation(&over));
+    Ok(Assessment {
+        feasible: report.feasible && guard_violation == 0.0,
+        violation: report.total_violation() + guard_violation,
+        report,
+        over_dig: over,
+    })
+}
+
+/// `params` with its time stretched by `k`: T' = k T, a_i6' = a_i6 / k⁶
+/// (the same path in joint space, speeds / k, accelerations / k²).
+pub fn rescale(params: &DigParams, k: f64) -> DigParams {
+    let k6 = k * k * k * k * k * k;
+    DigParams {
+        a6: params.a6.map(|a| a / k6),
+        duration: params.duration * k,
+    }
+}
+
+/// The smallest stretch k ≥ 1 that brings peak speed, acceleration and
+/// power within their limits, estimated from a report (speeds scale 1/k,
+/// accelerations 1/k², power about 1/k).
+pub fn stretch_needed(cfg: &Config, report: &DigReport) -> f64 {
+    let m = &cfg.machine;
+    let mut k = 1.0f64;
+    for i in 0..3 {
+        k = k.max(report.peak_speed[i] / m.max_speed[i]);
+        k = k.max(libm::sqrt(report.peak_accel[i] / m.max_accel[i]));
+    }
+    k.max(report.peak_power / m.max_power)
+}
+
+/// Budgets and weights of the repair.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RepairSettings {
+    /// Most evaluations the local refinement may spend (0 disables it).
+    pub budget: usize,
+    /// Weight of the total normalised violation in the refinement's cost.
+    pub penalty: f64,
+    /// Initial simplex steps: bending c_i \[rad\] and duration T \[s\].
+    pub step_bend: f64,
+    pub step_duration: f64,
+    /// Stop refining once feasible and the simplex has shrunk below this
+    /// (in the scaled variables).
+    pub tolerance: f64,
+}
+
+impl Default for RepairSettings {
+    fn default() -> Self {
+        RepairSettings {
+            budget: 300,
+            penalty: 20.0,
+            step_bend: 0.03,
+            step_duration: 0.6,
+            tolerance: 1e-3,
+        }
+    }
+}
+
+/// A feasible dig and how it was obtained.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Repaired {
+    pub params: DigParams,
+    pub assessment: Assessment,
+    pub outcome: Outcome,
+    /// Exact-model evaluations spent (1 when used as predicted).
+    pub evaluations: usize,
+}
+
+/// Why a dig could not be made feasible.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum RepairError {
+    #[error("{0}")]
+    Model(#[from] Error),
+    #[error("still infeasible after rescaling and {evaluations} refinement evaluations: {worst}")]
+    Infeasible {
+        worst: Violation,
+        /// The least infeasible dig found.
+        best: DigParams,
+        evaluations: usize,
+    },
+}
+
+/// The bending scale of the refinement's variables \[rad\].
+const BEND_SCALE: f64 = 0.05;
+/// Cost of a candidate the model rejects outright (e.g. the tip leaves the terrain).
+const REJECTED: f64 = 1e9;
+
+/// z = [c1, c2, c3] / BEND_SCALE ++ [T], with c_i = a_i6 T⁶ / 64 the
+/// peak bending of joint i \[rad\].
+fn encode(p: &DigParams) -> [f64; 4] {
+    let t6 = libm::pow(p.duration, 6.0) / 64.0;
+    [
+        p.a6[0] * t6 / BEND_SCALE,
+        p.a6[1] * t6 / BEND_SCALE,
+        p.a6[2] * t6 / BEND_SCALE,
+        p.duration,
+    ]
+}
+
+fn decode(cfg: &Config, z: &[f64; 4]) -> DigParams {
+    let [t_min, t_max] = cfg.objective.duration;
+    let t = if z[3].is_finite() {
+        z[3].clamp(t_min, t_max)
+    } else {
+        t_min
+    };
+    let t6 = libm::pow(t, 6.0) / 64.0;
+    DigParams {
+        a6: [
+            z[0] * BEND_SCALE / t6,
+            z[1] * BEND_SCALE / t6,
+            z[2] * BEND_SCALE / t6,
+        ],
+        duration: t,
+    }
+}
+
+/// Validates `predicted` and repairs it if needed. On success the carved
+/// surface of the returned dig is in `scratch`.
+pub fn repair(
+    cfg: &Config,
+    task: &DigTask,
+    predicted: &DigParams,
+    ground: Ground<'_>,
+    scratch: &mut CarveBuffer,
+    guard: Option<&DesignGuard>,
+    settings: &RepairSettings,
+) -> Result<Repaired, RepairError> {
+    let first = assess(cfg, task, predicted, ground, scratch, guard)?;
+    if first.feasible {
+        return Ok(Repaired {
+            params: *predicted,
+            assessment: first,
+            outcome: Outcome::Predicted,
+            evaluations: 1,
+        });
+    }
+    let mut evaluations = 1;
+    let mut seed = *predicted;
+    let [t_min, t_max] = cfg.objective.duration;
+    // Duration rescaling: the cheapest repair, tried when it can help.
+    let mut current = first;
+    for _ in 0..3 {
+        let k = stretch_needed(cfg, &current.report);
+        let mut k = if k > 1.0 { k * 1.002 } else { 1.0 };
+        let t = seed.duration;
+        if t * k > t_max {
+            k = t_max / t;
+        }
+        if t * k < t_min {
+            k = t_min / t;
+        }
+        if (k - 1.0).abs() < 1e-9 {
+            break;
+        }
+        let candidate = rescale(&seed, k);
+        let a = assess(cfg, task, &candidate, ground, scratch, guard)?;
+        evaluations += 1;
+        if a.violation > current.violation {
+            break;
+        }
+        seed = candidate;
+        current = a;
+        if a.feasible {
+            return Ok(Repaired {
+                params: seed,
+                assessment: a,
+                outcome: Outcome::Rescaled,
+                evaluations,
+            });
+        }
+    }
+    let (best, used) = refine(cfg, task, &seed, ground, scratch, guard, settings);
+    evaluations += used;
+    // Leave the returned dig's carving in `scratch`.
+    let a = assess(cfg, task, &best, ground, scratch, guard)?;
+    evaluations += 1;
+    if a.feasible {
+        Ok(Repaired {
+            params: best,
+            assessment: a,
+            outcome: Outcome::Refined,
+            evaluations,
+        })
+    } else {
+        let worst = a
+            .worst(guard)
+            .or_else(|| current.worst(guard))
+            .expect("an infeasible assessment has a violated constraint");
+        Err(RepairError::Infeasible {
+            worst,
+            best,
+            evaluations,
+        })
+    }
+}
+
+/// Nelder–Mead from `seed` for at most `settings.budget` evaluations;
+/// returns the best feasible dig found (lowest objective), or the least
+/// infeasible one, and the evaluations spent.
+pub fn refine(
+    cfg: &Config,
+    task: &DigTask,
+    seed: &DigParams,
+    ground: Ground<'_>,
+    scratch: &mut CarveBuffer,
+    guard: Option<&DesignGuard>,
+    settings: &RepairSettings,
+) -> (DigParams, usize) {
+    let budget = settings.budget;
+    if budget == 0 {
+        return (*seed, 0);
+    }
+    let mut used = 0usize;
+    // Best feasible (objective) and best overall (cost).
+    let best_feasible: core::cell::Cell<Option<(f64, [f64; 4])>> = core::cell::Cell::new(None);
+    let mut cost = |z: &[f64; 4], used: &mut usize| -> f64 {
+        *used += 1;
+        let p = decode(cfg, z);
+        match assess(cfg, task, &p, ground, scratch, guard) {
+            Ok(a) => {
+                let c = a.report.objective + settings.penalty * a.violation;
+                if a.feasible
+                    && best_feasible
+                        .get()
+                        .is_none_or(|(o, _)| a.report.objective < o)
+                {
+                    best_feasible.set(Some((a.report.objective, *z)));
+                }
+                if c.is_finite() { c } else { REJECTED }
+            }
+            Err(_) => REJECTED,
+        }
+    };
+    let z0 = encode(seed);
+    let steps = [
+        settings.step_bend / BEND_SCALE,
+        settings.step_bend / BEND_SCALE,
+        settings.step_bend / BEND_SCALE,
+        settings.step_duration,
+    ];
+    let mut simplex = [z0; 5];
+    for i in 0..4 {
+        simplex[i + 1][i] += steps[i];
+    }
+    // Keep the duration vertex inside [t_min, t_max] so it is not wasted on the clamp.
+    let [t_min, t_max] = cfg.objective.duration;
+    if simplex[4][3] > t_max {
+        simplex[4][3] = z0[3] - steps[3];
+    }
+    for v in &mut simplex {
+        v[3] = v[3].clamp(t_min, t_max);
+    }
+    let mut values = [0.0; 5];
+    for (i, v) in simplex.iter().enumerate() {
+        if used >= budget {
+            values[i] = f64::INFINITY;
+        } else {
+            values[i] = cost(v, &mut used);
+        }
+    }
+    while used + 2 <= budget {
+        // Order: best first.
+        let mut order = [0usize, 1, 2, 3, 4];
+        order.sort_unstable_by(|&a, &b| values[a].total_cmp(&values[b]));
+        let s = order.map(|i| simplex[i]);
+        let f = order.map(|i| values[i]);
+        simplex = s;
+        values = f;
+        let spread = (1..5)
+            .map(|i| {
+                (0..4)
+                    .map(|d| (simplex[i][d] - simplex[0][d]).abs())
+                    .fold(0.0, f64::max)
+            })
+            .fold(0.0, f64::max);
+        if spread < settings.tolerance && best_feasible.get().is_some() {
+            break;
+        }
+        let mut centroid = [0.0; 4];
+        for v in &simplex[..4] {
+            for d in 0..4 {
+                centroid[d] += v[d] / 4.0;
+            }
+        }
+        let along = |t: f64| -> [f64; 4] {
+            core::array::from_fn(|d| centroid[d] + t * (simplex[4][d] - centroid[d]))
+        };
+        let xr = along(-1.0);
+        let fr = cost(&xr, &mut used);
+        if fr < values[0] {
+            let xe = along(-2.0);
+            let fe = cost(&xe, &mut used);
+            if fe < fr {
+                simplex[4] = xe;
+                values[4] = fe;
+            } else {
+                simplex[4] = xr;
+                values[4] = fr;
+            }
+        } else if fr < values[3] {
+            simplex[4] = xr;
+            values[4] = fr;
+        } else {
+            let (xc, fc) = if fr < values[4] {
+                let x = along(-0.5);
+                (x, cost(&x, &mut used))
+            } else {
+                let x = along(0.5);
+                (x, cost(&x, &mut used))
+            };
+            if fc < values[4].min(fr) {
+                simplex[4] = xc;
+                values[4] = fc;
+            } else {
+                // Shrink towards the best vertex.
+                for i in 1..5 {
+                    if used >= budget {
+                        break;
+                    }
+                    let best = simplex[0];
+                    for (v, b) in simplex[i].iter_mut().zip(best) {
+                        *v = b + 0.5 * (*v - b);
+                    }
+                    values[i] = cost(&simplex[i], &mut used);
+                }
+            }
+        }
+    }
+    let best = match best_feasible.get() {
+        Some((_, z)) => z,
+        None => {
+            let i = (0..5)
+                .min_by(|&a, &b| values[a].total_cmp(&values[b]))
+                .unwrap_or(0);
+            simplex[i]
+        }
+    };
+    (decode(cfg, &best), used)
+}

@@ -1,0 +1,373 @@
+//! Repair, task validation, the design profile and the trench planner.
+#![allow(unsafe_code)] // the counting allocator below
+
+mod common;
+use common::{REFERENCE_Y, flat, reference_query};
+use infer::repair::{DesignGuard, Outcome, RepairError, Violation, assess, repair, rescale};
+use infer::{
+    CarveBuffer, Config, DigParams, DigPredictor, DigQuery, Error, Ground, Planner,
+    PlannerSettings, Quantity, RefinePredictor, RepairSettings, TaskError, Trajectory, TrenchTask,
+    deg,
+};
+use proptest::prelude::*;
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+/// Counts heap allocations made by the current thread.
+struct Counting;
+thread_local! { static ALLOCS: Cell<usize> = const { Cell::new(0) }; }
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
+        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
+        unsafe { System.alloc(l) }
+    }
+    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
+        unsafe { System.dealloc(p, l) }
+    }
+}
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+fn allocations() -> usize {
+    ALLOCS.with(|c| c.get())
+}
+
+fn repair_ref(y: [f64; 4], budget: usize) -> Result<infer::repair::Repaired, RepairError> {
+    let cfg = Config::default();
+    let q = reference_query(&cfg);
+    let terrain = flat(&cfg, q.surface);
+    repair(
+        &cfg,
+        &q.task(),
+        &DigParams::from_array(y),
+        Ground {
+            terrain: &terrain,
+            base_x: 0.0,
+        },
+        &mut CarveBuffer::default(),
+        None,
+        &RepairSettings {
+            budget,
+            ..RepairSettings::default()
+        },
+    )
+}
+
+#[test]
+fn rescaling_keeps_the_path_and_slows_the_joints() {
+    let cfg = Config::default();
+    let q = reference_query(&cfg);
+    let p = DigParams::from_array(REFERENCE_Y);
+    let k = 1.3;
+    let slow = rescale(&p, k);
+    let a = Trajectory::new(&q.start, &q.end, &p).unwrap();
+    let b = Trajectory::new(&q.start, &q.end, &slow).unwrap();
+    for i in 0..=20 {
+        let t = p.duration * i as f64 / 20.0;
+        let (sa, sb) = (a.at(t), b.at(k * t));
+        for j in 0..3 {
+            assert!((sa.q[j] - sb.q[j]).abs() < 1e-12);
+            assert!((sa.qd[j] / k - sb.qd[j]).abs() < 1e-12);
+            assert!((sa.qdd[j] / (k * k) - sb.qdd[j]).abs() < 1e-12);
+        }
+    }
+}
+
+#[test]
+fn a_feasible_prediction_is_used_as_predicted() {
+    let r = repair_ref(REFERENCE_Y, 300).unwrap();
+    assert_eq!(r.outcome, Outcome::Predicted);
+    assert_eq!(r.evaluations, 1);
+    assert_eq!(r.params, DigParams::from_array(REFERENCE_Y));
+}
+
+#[test]
+fn a_too_fast_dig_is_rescaled() {
+    // The reference dig squeezed into less time: same path, too fast.
+    let fast = rescale(&DigParams::from_array(REFERENCE_Y), 0.8);
+    let r = repair_ref(fast.to_array(), 300).unwrap();
+    assert_eq!(r.outcome, Outcome::Rescaled, "{r:?}");
+    assert!(r.assessment.feasible && r.assessment.report.feasible);
+    assert!(r.params.duration > fast.duration);
+}
+
+#[test]
+fn a_bad_prediction_is_refined_or_named() {
+    // A bent path with a dig angle out of range and bad fill.
+    let bad = [-2e-5, 3e-5, -4e-5, 6.0];
+    let cfg = Config::default();
+    let q = reference_query(&cfg);
+    let before = common::eval(&cfg, &q, bad).unwrap();
+    assert!(!before.feasible);
+    match repair_ref(bad, 400) {
+        Ok(r) => {
+            assert_eq!(r.outcome, Outcome::Refined);
+            assert!(r.assessment.report.feasible);
+            let again = common::eval(&cfg, &q, r.params.to_array()).unwrap();
+            assert!(again.feasible);
+        }
+        Err(RepairError::Infeasible { worst, .. }) => {
+            assert!(matches!(worst, Violation::Check(_)));
+        }
+        Err(e) => panic!("{e}"),
+    }
+    // With no refinement budget it cannot be fixed, and the error names the constraint.
+    let err = repair_ref(bad, 0).unwrap_err();
+    let RepairError::Infeasible {
+        worst: Violation::Check(c),
+        ..
+    } = err
+    else {
+        panic!("{err:?}")
+    };
+    assert!(!c.ok());
+    assert!(err.to_string().contains("its limit"), "{err}");
+}
+
+#[test]
+fn an_impossible_dig_is_an_error_naming_the_constraint() {
+    // Material surface far below the path: nothing to dig, so V < V_min whatever Y.
+    let cfg = Config::default();
+    let q = reference_query(&cfg);
+    let terrain = flat(&cfg, -1.2);
+    let err = repair(
+        &cfg,
+        &q.task(),
+        &DigParams::from_array(REFERENCE_Y),
+        Ground {
+            terrain: &terrain,
+            base_x: 0.0,
+        },
+        &mut CarveBuffer::default(),
+        None,
+        &RepairSettings {
+            budget: 40,
+            ..RepairSettings::default()
+        },
+    )
+    .unwrap_err();
+    match err {
+        RepairError::Infeasible {
+            worst: Violation::Check(c),
+            ..
+        } => {
+            assert_eq!(c.quantity, Quantity::Volume)
+        }
+        e => panic!("{e:?}"),
+    }
+}
+
+#[test]
+fn the_guard_measures_cuts_below_the_design() {
+    let cfg = Config::default();
+    let q = reference_query(&cfg);
+    let terrain = flat(&cfg, q.surface);
+    let task = TrenchTask::new_deg(0.6, 0.05, 60.0, 60.0);
+    let guard = DesignGuard {
+        profile: infer::DesignProfile::new(&cfg, &task),
+        max_depth: 0.01,
+        max_area: 1e-4,
+    };
+    let a = assess(
+        &cfg,
+        &q.task(),
+        &DigParams::from_array(REFERENCE_Y),
+        Ground {
+            terrain: &terrain,
+            base_x: 0.0,
+        },
+        &mut CarveBuffer::default(),
+        Some(&guard),
+    )
+    .unwrap();
+    // The reference dig goes ~10 cm deep; a 5 cm trench is over-dug.
+    assert!(a.report.feasible && !a.feasible);
+    assert!(
+        a.over_dig.max_depth > 0.03 && a.over_dig.area > 1e-3,
+        "{:?}",
+        a.over_dig
+    );
+    assert!(matches!(
+        a.worst(Some(&guard)),
+        Some(Violation::OverDig { .. })
+    ));
+}
+
+#[test]
+fn design_profile_area_and_metrics() {
+    let cfg = Config::default();
+    let a = TrenchTask::reference('A').unwrap();
+    let d = infer::DesignProfile::new(&cfg, &a);
+    // 0.15 (0.6 + 0.6 − 2·0.15/tan 60°) / 2
+    let expect = 0.15 * (0.6 + 0.6 - 2.0 * 0.15 / deg(60.0).tan()) / 2.0;
+    assert!((d.area() - expect).abs() < 1e-12 && (a.area() - expect).abs() < 1e-12);
+    // Volume × b ≈ 16.9 × 10³ cm³ (issue text).
+    assert!((a.area() * 0.22 * 1e6 - 16.9e3).abs() < 100.0);
+    assert_eq!(d.height_at(1.2), cfg.ground_level);
+    assert!((d.height_at(0.75) - (cfg.ground_level - 0.15)).abs() < 1e-12);
+    let untouched = infer::Terrain::flat(0.0, 1.5, cfg.terrain_dx, cfg.ground_level).unwrap();
+    let m = d.compare(&untouched);
+    assert!(
+        (m.under_dug - 1.0).abs() < 0.01 && m.over_dug == 0.0,
+        "{m:?}"
+    );
+    // A terrain carved exactly to the design: nothing off.
+    let heights: Vec<f64> = (0..601)
+        .map(|j| d.height_at(j as f64 * cfg.terrain_dx))
+        .collect();
+    let dug = infer::Terrain::from_heights(0.0, cfg.terrain_dx, &heights).unwrap();
+    let m = d.compare(&dug);
+    assert!(m.under_dug < 1e-9 && m.over_dug < 1e-9);
+}
+
+#[test]
+fn bad_tasks_give_clear_errors() {
+    let planner = Planner::new(&Config::default(), &PlannerSettings::default()).unwrap();
+    let cases: [(TrenchTask, &str); 8] = [
+        (TrenchTask::new_deg(-0.6, 0.15, 60.0, 60.0), "length"),
+        (TrenchTask::new_deg(0.0, 0.15, 60.0, 60.0), "length"),
+        (TrenchTask::new_deg(0.6, 0.0, 60.0, 60.0), "depth"),
+        (
+            TrenchTask::new_deg(0.6, 0.15, 90.0, 60.0),
+            "between 0° and 90°",
+        ),
+        (
+            TrenchTask::new_deg(0.6, 0.15, 60.0, 0.0),
+            "between 0° and 90°",
+        ),
+        (
+            TrenchTask::new_deg(0.6, 0.5, 60.0, 60.0),
+            "deeper than the arm reaches",
+        ),
+        (
+            TrenchTask::new_deg(f64::NAN, 0.15, 60.0, 60.0),
+            "not a finite number",
+        ),
+        (TrenchTask::new_deg(0.3, 0.2, 45.0, 45.0), "walls meet"),
+    ];
+    for (task, message) in cases {
+        let err = planner.start(&task).unwrap_err();
+        assert!(err.to_string().contains(message), "{task:?}: {err}");
+    }
+    let tiny = TrenchTask::new_deg(0.2, 0.05, 60.0, 60.0);
+    assert!(matches!(
+        planner.digs_for(&tiny),
+        Err(infer::PlanError::Task(TaskError::TooSmall { .. }))
+    ));
+}
+
+#[test]
+fn dig_counts_of_tasks_a_to_d_match_the_source() {
+    let planner = Planner::new(&Config::default(), &PlannerSettings::default()).unwrap();
+    let counts: Vec<usize> = ['A', 'B', 'C', 'D']
+        .iter()
+        .map(|&n| {
+            planner
+                .digs_for(&TrenchTask::reference(n).unwrap())
+                .unwrap()
+        })
+        .collect();
+    assert_eq!(counts, [4, 3, 3, 5]);
+}
+
+/// Returns one fixed Y: cheap, for tests of the planner's plumbing.
+#[derive(Debug)]
+struct Fixed([f64; 4]);
+impl DigPredictor for Fixed {
+    fn predict(&mut self, _: &DigQuery) -> Result<DigParams, Error> {
+        Ok(DigParams::from_array(self.0))
+    }
+}
+
+fn fast_settings() -> PlannerSettings {
+    PlannerSettings {
+        repair: RepairSettings {
+            budget: 60,
+            ..RepairSettings::default()
+        },
+        ..PlannerSettings::default()
+    }
+}
+
+/// Every dig in a plan is feasible under the exact model, re-checked from scratch.
+fn check_plan(planner: &Planner, task: &TrenchTask, p: &mut dyn DigPredictor) {
+    let cfg = *planner.config();
+    let mut state = planner.start(task).unwrap();
+    loop {
+        let before = state.terrain().clone();
+        match planner.next_dig(&mut state, p) {
+            Ok(Some(dig)) => {
+                assert!(dig.report.feasible);
+                let r = infer::evaluate(
+                    &cfg,
+                    &dig.query.task(),
+                    &dig.params,
+                    Ground {
+                        terrain: &before,
+                        base_x: dig.base_x,
+                    },
+                    &mut CarveBuffer::default(),
+                )
+                .unwrap();
+                assert!(
+                    r.feasible,
+                    "dig {} re-evaluated: {:?}",
+                    dig.index,
+                    r.worst_violation()
+                );
+                assert_eq!(r, dig.report);
+            }
+            Ok(None) => break,
+            Err(e) => {
+                // An error is allowed; it must name what went wrong.
+                assert!(!e.to_string().is_empty());
+                break;
+            }
+        }
+    }
+}
+
+#[test]
+fn the_per_dig_step_does_not_allocate() {
+    let cfg = Config::default();
+    let planner = Planner::new(&cfg, &fast_settings()).unwrap();
+    let mut pred = RefinePredictor::new(&cfg, 40).unwrap();
+    let mut state = planner.start(&TrenchTask::reference('A').unwrap()).unwrap();
+    let mut steps = 0;
+    loop {
+        let before = allocations();
+        let r = planner.next_dig(&mut state, &mut pred);
+        assert_eq!(allocations(), before, "dig {steps} allocated");
+        steps += 1;
+        if !matches!(r, Ok(Some(_))) {
+            break;
+        }
+    }
+    assert!(steps >= 2);
+}
+
+#[test]
+fn planned_digs_are_feasible_under_the_exact_model() {
+    let cfg = Config::default();
+    let planner = Planner::new(&cfg, &fast_settings()).unwrap();
+    let mut pred = Fixed(REFERENCE_Y);
+    check_plan(&planner, &TrenchTask::reference('A').unwrap(), &mut pred);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 6, ..ProptestConfig::default() })]
+    #[test]
+    fn valid_tasks_never_panic_or_return_infeasible_digs(
+        length in 0.45f64..0.9,
+        depth in 0.06f64..0.2,
+        b1 in 35.0f64..85.0,
+        b2 in 35.0f64..85.0,
+    ) {
+        let cfg = Config::default();
+        let planner = Planner::new(&cfg, &fast_settings()).unwrap();
+        let task = TrenchTask::new_deg(length, depth, b1, b2);
+        if planner.digs_for(&task).is_ok() {
+            let mut pred = RefinePredictor::new(&cfg, 30).unwrap();
+            check_plan(&planner, &task, &mut pred);
+        }
+    }
+}
