@@ -55,7 +55,7 @@ fn bench(c: &mut Criterion) {
     let params = random_params(&widths, 7);
     let net = Network::new(&widths, &params).unwrap();
     let q = QueryRanges::default()
-        .query_at(&cfg, DigType::Downward, [0.0, 0.6, 0.5, 0.5, 0.5, 0.5])
+        .query_at(&cfg, DigType::Downward, [1.0, 0.6, 0.5, 0.5, 0.5, 0.5])
         .unwrap();
     let terrain = Terrain::flat(-0.5, 1.8, cfg.terrain_dx, q.surface).unwrap();
     let task = TrenchTask::reference('A').unwrap();
