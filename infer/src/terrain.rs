@@ -176,6 +176,14 @@ impl Default for CarveBuffer {
     }
 }
 
+impl CarveBuffer {
+    /// The window carved last: the index of its first node in the terrain,
+    /// and the carved heights of its nodes (empty before any carving).
+    pub fn window(&self) -> (usize, &[f64]) {
+        (self.lo, &self.buf[self.lo..self.hi])
+    }
+}
+
 impl core::fmt::Debug for CarveBuffer {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.debug_struct("CarveBuffer")
