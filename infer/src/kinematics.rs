@@ -42,9 +42,9 @@ impl LinkFrames {
     #[inline]
     pub fn tip(&self, l: &[f64; 3]) -> [f64; 2] {
         let mut p = [0.0; 2];
-        for i in 0..3 {
-            p[0] += l[i] * self.u[i][0];
-            p[1] += l[i] * self.u[i][1];
+        for (li, ui) in l.iter().zip(&self.u) {
+            p[0] += li * ui[0];
+            p[1] += li * ui[1];
         }
         p
     }
@@ -146,11 +146,11 @@ pub fn inverse(machine: &Machine, pose: &Pose, elbow: Elbow) -> Result<[f64; 3],
 /// Error if any angle of `q` is non-finite or outside its joint range.
 pub fn check_joint_range(machine: &Machine, q: &[f64; 3]) -> Result<(), Error> {
     ensure_finite("joint angle", q)?;
-    for i in 0..3 {
-        if q[i] < machine.joint_min[i] || q[i] > machine.joint_max[i] {
+    for (i, &angle) in q.iter().enumerate() {
+        if angle < machine.joint_min[i] || angle > machine.joint_max[i] {
             return Err(Error::JointOutOfRange {
                 joint: i,
-                angle_deg: to_deg(q[i]),
+                angle_deg: to_deg(angle),
                 min_deg: to_deg(machine.joint_min[i]),
                 max_deg: to_deg(machine.joint_max[i]),
             });
