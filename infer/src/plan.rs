@@ -94,30 +94,12 @@ impl Planner {
         task: &TrenchTask,
         predictor: &mut P,
     ) -> Result<Plan, PlanError> {
-        match self.plan_partial(task, predictor)? {
-            (plan, None) => Ok(plan),
-            (_, Some(e)) => Err(e),
-        }
-    }
-
-    /// Plans as far as it can: the digs planned before any failure, and
-    /// the failure (an error in the task itself is returned as `Err`).
-    pub fn plan_partial<P: DigPredictor + ?Sized>(
-        &self,
-        task: &TrenchTask,
-        predictor: &mut P,
-    ) -> Result<(Plan, Option<PlanError>), PlanError> {
         let clock = std::time::Instant::now();
         let mut state = self.start(task)?;
         let design = *state.design();
         let (lo, hi) = (design.near_edge - 0.15, design.far_edge + 0.15);
         let mut digs = Vec::new();
-        let failure = loop {
-            let dig = match self.next_dig(&mut state, predictor) {
-                Ok(Some(dig)) => dig,
-                Ok(None) => break None,
-                Err(e) => break Some(e),
-            };
+        while let Some(dig) = self.next_dig(&mut state, predictor)? {
             let t = state.terrain();
             let j0 = ((lo - t.x0()) / t.dx()).max(0.0) as usize;
             let j1 = (((hi - t.x0()) / t.dx()) as usize).min(t.len() - 1);
@@ -130,17 +112,14 @@ impl Planner {
                 },
                 dig,
             });
-        };
-        Ok((
-            Plan {
-                task: *task,
-                design,
-                metrics: state.metrics(),
-                digs,
-                planning_seconds: clock.elapsed().as_secs_f64(),
-            },
-            failure,
-        ))
+        }
+        Ok(Plan {
+            task: *task,
+            design,
+            metrics: state.metrics(),
+            digs,
+            planning_seconds: clock.elapsed().as_secs_f64(),
+        })
     }
 }
 

@@ -30,11 +30,11 @@ use crate::config::Config;
 use crate::dig::{DigReport, DigType, Ground};
 use crate::error::Error;
 use crate::kinematics::{Elbow, Pose};
+use crate::math::deg;
 use crate::predictor::DigPredictor;
 use crate::query::{DigQuery, QueryRanges};
 use crate::repair::{
-    DesignGuard, Outcome, OverDig, RepairError, RepairSettings, Violation, assess, refine_by,
-    repair, rescale, stretch_needed,
+    DesignGuard, Outcome, OverDig, RepairError, RepairSettings, Violation, repair,
 };
 use crate::terrain::{CarveBuffer, TERRAIN_CAPACITY, Terrain};
 use crate::trajectory::DigParams;
@@ -60,53 +60,20 @@ pub struct PlannerSettings {
     pub over_dig_depth: f64,
     /// Most area one dig may cut below the design, as a fraction of the design area.
     pub over_dig_area: f64,
-    pub search: SearchSettings,
-}
-
-/// The per-dig placement search: which candidate digs are tried and how
-/// they are scored.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct SearchSettings {
-    /// Spacing of the start positions tried on the surface \[m\].
-    pub x_step: f64,
-    /// Chords tried at each start, as fractions of the type's chord range.
-    pub chords: [f64; 3],
-    /// Pattern-search candidates spent refining the best placement.
-    pub local_budget: usize,
-    /// Weight of area cut below the design against design area removed.
-    pub over_weight: f64,
-    /// Evaluations of the task-aware refinement of the chosen dig (0: off).
-    pub refine_budget: usize,
-    /// Weight of design material a dig leaves beyond its start (on the far
-    /// side, where later digs, working towards the machine, do not return).
-    pub strand_weight: f64,
-    /// Each later dig needs this many V_min of design material left.
-    pub reserve: f64,
-    /// Digs the planner may add to the source's count when the profile is
-    /// not yet within `under_target`.
-    pub extra_digs: usize,
-    /// Under-dug fraction of the design area the planner is content with.
-    pub under_target: f64,
-    /// Extra digs must remove at least this fraction of the design area.
-    pub extra_gain: f64,
-}
-
-impl Default for SearchSettings {
-    fn default() -> Self {
-        SearchSettings {
-            x_step: 0.03,
-            chords: [0.0, 0.5, 1.0],
-            local_budget: 40,
-            over_weight: 3.0,
-            refine_budget: 150,
-            strand_weight: 1.0,
-            reserve: 1.05,
-            extra_digs: 1,
-            under_target: 0.03,
-            extra_gain: 0.01,
-        }
-    }
+    /// Height above the floor at which backward digs start \[m\].
+    pub start_clearance: f64,
+    /// A surface within this of the floor counts as reached \[m\].
+    pub floor_tolerance: f64,
+    /// Backward digs start where the surface is within this of the floor \[m\].
+    pub face_height: f64,
+    /// Extra design area a middle dig is aimed at, as a fraction of its share.
+    pub overshoot: f64,
+    /// Bucket attitude ζ at the start of downward and backward digs \[rad\].
+    pub start_zeta: [f64; 2],
+    /// Bucket attitude ζ at the end of a dig \[rad\].
+    pub end_zeta: f64,
+    /// Where a dig's start is placed in the machine frame after a move \[m\].
+    pub start_after_move: f64,
 }
 
 impl Default for PlannerSettings {
@@ -117,8 +84,14 @@ impl Default for PlannerSettings {
             fill: 0.9,
             max_depth: 0.20,
             over_dig_depth: 0.015,
-            over_dig_area: 0.03,
-            search: SearchSettings::default(),
+            over_dig_area: 0.004,
+            start_clearance: 0.005,
+            floor_tolerance: 0.01,
+            face_height: 0.06,
+            overshoot: 0.05,
+            start_zeta: [deg(-85.0), deg(-75.0)],
+            end_zeta: deg(160.0),
+            start_after_move: 0.95,
         }
     }
 }
@@ -143,8 +116,12 @@ pub enum PlanError {
         end: Pose,
         error: RepairError,
     },
-    #[error("dig {dig}: no placement inside the query ranges is reachable", dig = dig + 1)]
-    NoPlacement { dig: usize },
+    #[error("dig {dig} ({kind}): no reachable pose: {error}", dig = dig + 1)]
+    Pose {
+        dig: usize,
+        kind: DigType,
+        error: Error,
+    },
 }
 
 impl PlanError {
@@ -316,471 +293,280 @@ impl Planner {
 
     /// Plans, validates and commits the next dig; `Ok(None)` once the task
     /// is done. Allocates nothing.
-    ///
-    /// Each dig is a small search over its placement — dig type, start tip
-    /// on the current surface, chord, end lift, start and end bucket
-    /// attitudes, all inside [`QueryRanges`] — where every candidate is
-    /// predicted, validated on the real terrain with the exact model and
-    /// the design guard, and scored by the design area it removes, minus a
-    /// penalty for area cut below the design and for taking material the
-    /// later digs need to fill their buckets.
     pub fn next_dig<P: DigPredictor + ?Sized>(
         &self,
         state: &mut PlanState,
         predictor: &mut P,
     ) -> Result<Option<PlannedDig>, PlanError> {
-        let s = &self.settings.search;
-        let d = state.design;
-        let b = self.cfg.machine.bucket_width;
-        let v_min = self.cfg.objective.volume[0];
-        let remaining = d.remaining_area(&state.terrain, d.near_edge, d.far_edge);
-        let extra = state.done >= state.total;
-        if extra {
-            // Past the planned count: one more dig only while the profile
-            // is not good enough and there is a bucket's worth of material.
-            let under = remaining / d.area();
-            if state.done >= state.total + s.extra_digs
-                || under <= s.under_target
-                || remaining * b < 0.5 * v_min
-            {
-                return Ok(None);
-            }
-        } else if state.done > 0 && remaining * b < 0.5 * v_min {
-            // Too little left for a bucket: report it as under-dug.
+        if state.is_finished() {
+            return Ok(None);
+        }
+        // Stop when what is left would not fill the bucket to V_min: the
+        // rest is reported as under-dug rather than dug by an infeasible dig.
+        let d = &state.design;
+        let left = d.remaining_area(&state.terrain, d.near_edge, d.far_edge)
+            * self.cfg.machine.bucket_width;
+        if state.done > 0 && left < self.cfg.objective.volume[0] {
             state.total = state.done;
             return Ok(None);
         }
         let index = state.done;
-        let later = if extra { 0 } else { state.total - index - 1 };
-        let ctx = Ctx {
-            index,
-            remaining,
-            reserve: later as f64 * s.reserve * v_min / b,
+        let first = index == 0;
+        let last = index + 1 == state.total;
+        let floor_reached = self.floor_point(state).is_some();
+        let kinds = if first || last || !floor_reached {
+            [DigType::Downward, DigType::Backward]
+        } else {
+            [DigType::Backward, DigType::Downward]
         };
-        let mut best: Option<Candidate> = None;
-        let mut least_bad: Option<Candidate> = None;
-        let mut keep = |c: Candidate, best: &mut Option<Candidate>| {
-            if c.feasible {
-                if best.as_ref().is_none_or(|b| c.score > b.score) {
-                    *best = Some(c);
+        let mut first_error = None;
+        // The planned chord first, then the longest one the range allows
+        // (it reaches more of the material the earlier digs left).
+        let attempts = [
+            (kinds[0], false),
+            (kinds[1], false),
+            (kinds[0], true),
+            (kinds[1], true),
+        ];
+        for (kind, long) in attempts {
+            match self.try_dig(state, predictor, kind, first, last, long) {
+                Ok(dig) => {
+                    state.terrain.commit(&state.scratch);
+                    state.base_x = dig.base_x;
+                    state.done += 1;
+                    return Ok(Some(dig));
                 }
-            } else if least_bad.as_ref().is_none_or(|b| c.violation < b.violation) {
-                least_bad = Some(c);
-            }
-        };
-        // Stage 1: a coarse grid of start positions and chords, both types.
-        for kind in DigType::ALL {
-            let mut x = d.far_edge;
-            while x > d.near_edge + 0.02 {
-                for &cu in &s.chords {
-                    let v = [x, cu, 0.5, 0.5, 0.5];
-                    if let Some(c) = self.candidate(state, predictor, kind, v, &ctx)? {
-                        keep(c, &mut best);
-                    }
-                }
-                x -= s.x_step;
-            }
-        }
-        // Stage 2: a pattern search from the best placement over all five
-        // placement variables.
-        if let Some(start) = best {
-            let mut centre = start;
-            let mut steps = [0.5 * s.x_step, 0.25, 0.25, 0.25, 0.25];
-            let mut spent = 0;
-            'outer: while spent < s.local_budget {
-                let mut improved = false;
-                for dim in 0..5 {
-                    for sign in [1.0, -1.0] {
-                        if spent >= s.local_budget {
-                            break 'outer;
-                        }
-                        let mut v = centre.v;
-                        v[dim] += sign * steps[dim];
-                        if dim > 0 {
-                            if !(0.0..=1.0).contains(&v[dim]) {
-                                continue;
-                            }
-                        } else if v[0] > d.far_edge || v[0] < d.near_edge {
-                            continue;
-                        }
-                        spent += 1;
-                        if let Some(c) = self.candidate(state, predictor, centre.kind, v, &ctx)? {
-                            if c.feasible && c.score > centre.score {
-                                centre = c;
-                                improved = true;
-                            }
-                            keep(c, &mut best);
-                        }
-                    }
-                }
-                if !improved {
-                    for st in &mut steps {
-                        *st *= 0.5;
-                    }
-                    if steps[1] < 0.03 {
-                        break;
+                Err(e) => {
+                    if first_error.is_none() {
+                        first_error = Some(e);
                     }
                 }
             }
         }
-        // Stage 3: reshape the chosen dig's path (bending and duration)
-        // for the trench, seeded by the prediction.
-        if let Some(c) = best.as_mut()
-            && s.refine_budget > 0
-        {
-            self.reshape(state, c, &ctx);
-        }
-        let dig = match best {
-            Some(c) => {
-                if extra && c.removed < s.extra_gain * d.area() {
-                    return Ok(None);
-                }
-                // Re-run the winner so its carving is the one in scratch.
-                let ground = Ground {
-                    terrain: &state.terrain,
-                    base_x: c.base_x,
-                };
-                let a = crate::repair::assess(
-                    &self.cfg,
-                    &c.query.task(),
-                    &c.params,
-                    ground,
-                    &mut state.scratch,
-                    Some(&state.guard),
-                )?;
-                debug_assert!(a.feasible);
-                c.planned(index, 0)
-            }
-            None if extra => return Ok(None),
-            None => {
-                // No placement was feasible as predicted: repair the least
-                // infeasible one, or name what it breaks.
-                let Some(c) = least_bad else {
-                    return Err(PlanError::NoPlacement { dig: index });
-                };
-                let ground = Ground {
-                    terrain: &state.terrain,
-                    base_x: c.base_x,
-                };
-                let r = repair(
-                    &self.cfg,
-                    &c.query.task(),
-                    &c.params,
-                    ground,
-                    &mut state.scratch,
-                    Some(&state.guard),
-                    &self.settings.repair,
-                )
-                .map_err(|error| PlanError::Dig {
-                    dig: index,
-                    kind: c.kind,
-                    start: c.start,
-                    end: c.end,
-                    error,
-                })?;
-                let mut c = c;
-                c.params = r.params;
-                c.outcome = r.outcome;
-                c.report = r.assessment.report;
-                c.over_dig = r.assessment.over_dig;
-                c.planned(index, r.evaluations)
-            }
-        };
-        state.terrain.commit(&state.scratch);
-        state.base_x = dig.base_x;
-        state.done += 1;
-        if state.done > state.total {
-            state.total = state.done;
-        }
-        Ok(Some(dig))
+        Err(first_error.expect("at least one dig type was tried"))
     }
 
-    /// Builds, predicts, validates and scores one placement
-    /// v = [start x (terrain frame), chord, end lift, start ζ, end ζ] (the
-    /// last four as fractions of the type's ranges). `None` when the pose
-    /// is out of reach or out of the query ranges.
-    fn candidate<P: DigPredictor + ?Sized>(
+    /// Nearest-to-machine x in the trench where the floor has been reached.
+    fn floor_point(&self, state: &PlanState) -> Option<f64> {
+        let d = &state.design;
+        let t = &state.terrain;
+        (0..t.len())
+            .map(|j| (t.x_at(j), t.heights()[j]))
+            .find(|&(x, s)| {
+                x > d.near_edge && x < d.far_edge && s <= d.floor + self.settings.floor_tolerance
+            })
+            .map(|(x, _)| x)
+    }
+
+    /// Nearest-to-machine x in the trench where the surface has been cut
+    /// below the ground.
+    fn face_top(&self, state: &PlanState) -> Option<f64> {
+        let d = &state.design;
+        let t = &state.terrain;
+        (0..t.len())
+            .map(|j| (t.x_at(j), t.heights()[j]))
+            .find(|&(x, s)| x > d.near_edge && x < d.far_edge && s < d.ground - 0.005)
+            .map(|(x, _)| x)
+    }
+
+    /// Nearest-to-machine x in the trench where the cut is within
+    /// `height` of the floor: the foot of the face the last dig left.
+    fn face_foot(&self, state: &PlanState, height: f64) -> Option<f64> {
+        let d = &state.design;
+        let t = &state.terrain;
+        (0..t.len())
+            .map(|j| (t.x_at(j), t.heights()[j]))
+            .find(|&(x, s)| x > d.near_edge && x < d.far_edge && s <= d.floor + height)
+            .map(|(x, _)| x)
+    }
+
+    /// x where the design area still to dig in [x, from] reaches `area`.
+    fn x_for_area(&self, state: &PlanState, area: f64, from: f64) -> f64 {
+        let d = &state.design;
+        let t = &state.terrain;
+        let mut sum = 0.0;
+        for j in (0..t.len()).rev() {
+            let x = t.x_at(j);
+            if x >= d.far_edge.min(from) {
+                continue;
+            }
+            if x <= d.near_edge {
+                return d.near_edge;
+            }
+            sum += (t.heights()[j].min(d.ground) - d.height_at(x)).max(0.0) * t.dx();
+            if sum >= area {
+                return x;
+            }
+        }
+        d.near_edge
+    }
+
+    fn try_dig<P: DigPredictor + ?Sized>(
         &self,
         state: &mut PlanState,
         predictor: &mut P,
         kind: DigType,
-        v: [f64; 5],
-        ctx: &Ctx,
-    ) -> Result<Option<Candidate>, PlanError> {
-        let st = &self.settings;
-        let r = st.ranges.of(kind);
-        let lerp = |r: [f64; 2], u: f64| r[0] + (r[1] - r[0]) * u.clamp(0.0, 1.0);
-        let x_s = v[0];
-        let Some(y_s) = state.terrain.height_at(x_s) else {
-            return Ok(None);
+        first: bool,
+        last: bool,
+        long: bool,
+    ) -> Result<PlannedDig, PlanError> {
+        let s = &self.settings;
+        let d = state.design;
+        let r = s.ranges.of(kind);
+        let index = state.done;
+        let height = |state: &PlanState, x: f64| state.terrain.height_at(x).unwrap_or(d.ground);
+
+        // Start point (terrain frame).
+        let (mut x_s, mut y_s) = if first {
+            let x = d.far_edge - 0.002;
+            (x, height(state, x))
+        } else if last || kind == DigType::Downward {
+            let x = self.face_top(state).unwrap_or(d.far_edge - 0.002);
+            (x, height(state, x))
+        } else {
+            let x = self
+                .face_foot(state, s.face_height)
+                .or_else(|| self.face_top(state))
+                .unwrap_or(d.far_edge - 0.002);
+            (x, height(state, x).max(d.floor + s.start_clearance))
         };
-        if y_s < st.ranges.surface[0] || y_s > st.ranges.surface[1] {
-            return Ok(None);
+        // End point: the near edge for the last dig, else where this dig's
+        // share of the remaining design area is reached.
+        let remaining = d.remaining_area(&state.terrain, d.near_edge, d.far_edge);
+        let share = remaining / (state.total - index) as f64;
+        let mut x_e = if last {
+            d.near_edge
+        } else {
+            self.x_for_area(state, share * (1.0 + s.overshoot), x_s)
+        };
+        let chord = if long {
+            r.chord[1]
+        } else {
+            (x_s - x_e).clamp(r.chord[0], r.chord[1])
+        };
+        if x_s - x_e < r.chord[0] && !first {
+            // Too short a dig: start further back over ground already dug.
+            x_s = (x_e + chord).min(d.far_edge - 0.002);
+            y_s = height(state, x_s);
+            if kind == DigType::Backward {
+                y_s = y_s.max(d.floor + s.start_clearance);
+            }
         }
+        x_e = x_s - chord;
+        // The machine moves back when the start is too near to it.
         let mut base_x = state.base_x;
         let mut moved_from = None;
-        if x_s - base_x > r.start_x[1] {
-            return Ok(None);
-        }
         if x_s - base_x < r.start_x[0] {
-            moved_from = Some(base_x);
-            base_x = x_s - r.start_x[0];
+            let new_base = x_s - s.start_after_move.clamp(r.start_x[0], r.start_x[1]);
+            if new_base < base_x {
+                moved_from = Some(base_x);
+                base_x = new_base;
+            }
         }
+        if x_s - base_x > r.start_x[1] {
+            x_s = base_x + r.start_x[1];
+            y_s = height(state, x_s);
+            x_e = x_s - chord;
+        }
+        let [lift_lo, lift_hi] = r.end_lift;
+        let y_e = if kind == DigType::Backward && !last {
+            y_s + lift_hi
+        } else {
+            y_s + (height(state, x_e) - y_s).clamp(lift_lo, lift_hi)
+        };
+        let surface = y_s.clamp(s.ranges.surface[0], s.ranges.surface[1]);
+        let zeta_s = match kind {
+            DigType::Downward => s.start_zeta[0],
+            DigType::Backward => s.start_zeta[1],
+        }
+        .clamp(r.start_zeta[0], r.start_zeta[1]);
         let start = Pose {
             x: x_s - base_x,
             y: y_s,
-            zeta: lerp(r.start_zeta, v[3]),
+            zeta: zeta_s,
         };
-        let end = Pose {
-            x: start.x - lerp(r.chord, v[1]),
-            y: y_s + lerp(r.end_lift, v[2]),
-            zeta: lerp(r.end_zeta, v[4]),
-        };
-        let m = &self.cfg.machine;
-        let (Ok(start_q), Ok(end_q)) = (
-            crate::kinematics::inverse(m, &start, Elbow::Auto),
-            crate::kinematics::inverse(m, &end, Elbow::Auto),
-        ) else {
-            return Ok(None);
-        };
+        let start_q = crate::kinematics::inverse(&self.cfg.machine, &start, Elbow::Auto).map_err(
+            |error| PlanError::Pose {
+                dig: index,
+                kind,
+                error,
+            },
+        )?;
+        // The end pose: the wanted one if the arm reaches it, else the
+        // nearest reachable one, trying a higher end and other attitudes
+        // before moving the end towards the machine (a longer chord).
+        let zetas = [0.0, -10.0, 10.0, -20.0, 20.0]
+            .map(|dz| (s.end_zeta + deg(dz)).clamp(r.end_zeta[0], r.end_zeta[1]));
+        let mut found = None;
+        let mut last_error = Error::Unreachable { x: x_e, y: y_e };
+        let mut shift = 0.0;
+        'search: while x_s - (x_e - shift) <= r.chord[1] + 1e-9 {
+            for y in [y_e, y_s + lift_hi] {
+                for zeta in zetas {
+                    let end = Pose {
+                        x: x_e - shift - base_x,
+                        y,
+                        zeta,
+                    };
+                    match crate::kinematics::inverse(&self.cfg.machine, &end, Elbow::Auto) {
+                        Ok(q) => {
+                            found = Some((end, q));
+                            break 'search;
+                        }
+                        Err(e) => last_error = e,
+                    }
+                }
+            }
+            shift += 0.01;
+        }
+        let (end, end_q) = found.ok_or(PlanError::Pose {
+            dig: index,
+            kind,
+            error: last_error,
+        })?;
         let query = DigQuery {
             start: start_q,
             end: end_q,
-            surface: y_s,
+            surface,
             kind,
         };
         let predicted = predictor
             .predict(&query)
-            .map_err(|error| PlanError::Predictor {
-                dig: ctx.index,
-                error,
-            })?;
+            .map_err(|error| PlanError::Predictor { dig: index, error })?;
         let ground = Ground {
             terrain: &state.terrain,
             base_x,
         };
-        let task = query.task();
-        let guard = Some(&state.guard);
-        let Ok(mut a) = assess(
+        let repaired = repair(
             &self.cfg,
-            &task,
+            &query.task(),
             &predicted,
             ground,
             &mut state.scratch,
-            guard,
-        ) else {
-            return Ok(None);
-        };
-        let mut params = predicted;
-        let mut outcome = Outcome::Predicted;
-        let mut evaluations = 1;
-        // The cheap repair: stretch the duration (same path) when speed,
-        // acceleration, power or duration is what fails.
-        let [t_min, t_max] = self.cfg.objective.duration;
-        for _ in 0..2 {
-            if a.feasible {
-                break;
-            }
-            let mut k = stretch_needed(&self.cfg, &a.report);
-            k = if k > 1.0 { k * 1.002 } else { 1.0 };
-            let k = (params.duration * k).clamp(t_min, t_max) / params.duration;
-            if (k - 1.0).abs() < 1e-9 {
-                break;
-            }
-            let p = rescale(&params, k);
-            let Ok(b) = assess(&self.cfg, &task, &p, ground, &mut state.scratch, guard) else {
-                break;
-            };
-            evaluations += 1;
-            if b.violation > a.violation {
-                break;
-            }
-            a = b;
-            params = p;
-            outcome = Outcome::Rescaled;
-        }
-        let (removed, over) = cut_against_design(&state.terrain, &state.scratch, &state.design);
-        let stranded = stranded_area(&state.terrain, &state.scratch, &state.design, x_s);
-        let score = self.score(removed, over, ctx) - st.search.strand_weight * stranded;
-        Ok(Some(Candidate {
+            Some(&state.guard),
+            &s.repair,
+        )
+        .map_err(|error| PlanError::Dig {
+            dig: index,
             kind,
-            v,
+            start,
+            end,
+            error,
+        })?;
+        Ok(PlannedDig {
+            index,
+            kind,
             base_x,
             moved_from,
             start,
             end,
             query,
             predicted,
-            params,
-            outcome,
-            evaluations,
-            report: a.report,
-            over_dig: a.over_dig,
-            feasible: a.feasible,
-            violation: a.violation,
-            score,
-            removed,
-        }))
+            params: repaired.params,
+            outcome: repaired.outcome,
+            evaluations: repaired.evaluations,
+            report: repaired.assessment.report,
+            over_dig: repaired.assessment.over_dig,
+        })
     }
-}
-
-impl Planner {
-    /// How good a cut is for the task: design area removed, less the area
-    /// cut below the design and the material the later digs need \[m²\].
-    fn score(&self, removed: f64, over: f64, ctx: &Ctx) -> f64 {
-        let s = &self.settings.search;
-        let left = ctx.remaining - removed;
-        removed - s.over_weight * over - 3.0 * (ctx.reserve - left).max(0.0)
-    }
-
-    /// Task-aware refinement of a feasible candidate: Nelder–Mead over its
-    /// bending and duration maximising the score, hard constraints hard.
-    fn reshape(&self, state: &mut PlanState, c: &mut Candidate, ctx: &Ctx) {
-        let s = &self.settings.search;
-        let PlanState {
-            terrain,
-            scratch,
-            guard,
-            design,
-            ..
-        } = state;
-        let ground = Ground {
-            terrain,
-            base_x: c.base_x,
-        };
-        let area = design.area();
-        let settings = RepairSettings {
-            budget: s.refine_budget,
-            ..self.settings.repair
-        };
-        let task = c.query.task();
-        let x_s = c.v[0];
-        let (p, used) = refine_by(
-            &self.cfg,
-            &task,
-            &c.params,
-            ground,
-            scratch,
-            Some(guard),
-            &settings,
-            |a, sc| {
-                let (removed, over) = cut_against_design(terrain, sc, design);
-                let stranded = stranded_area(terrain, sc, design, x_s);
-                -(self.score(removed, over, ctx) - s.strand_weight * stranded) / area
-                    + 1e-3 * a.report.objective
-            },
-        );
-        c.evaluations += used;
-        let Ok(a) = assess(&self.cfg, &task, &p, ground, scratch, Some(guard)) else {
-            return;
-        };
-        c.evaluations += 1;
-        let (removed, over) = cut_against_design(terrain, scratch, design);
-        let stranded = stranded_area(terrain, scratch, design, c.v[0]);
-        let score = self.score(removed, over, ctx) - s.strand_weight * stranded;
-        if a.feasible && score > c.score {
-            c.params = p;
-            c.outcome = Outcome::Refined;
-            c.report = a.report;
-            c.over_dig = a.over_dig;
-            c.score = score;
-            c.removed = removed;
-        }
-    }
-}
-
-/// What every candidate of one dig shares.
-struct Ctx {
-    index: usize,
-    /// Design area not yet dug \[m²\].
-    remaining: f64,
-    /// Design area the later digs need \[m²\].
-    reserve: f64,
-}
-
-/// One evaluated placement.
-#[derive(Clone, Copy)]
-struct Candidate {
-    kind: DigType,
-    v: [f64; 5],
-    base_x: f64,
-    moved_from: Option<f64>,
-    start: Pose,
-    end: Pose,
-    query: DigQuery,
-    predicted: DigParams,
-    params: DigParams,
-    outcome: Outcome,
-    evaluations: usize,
-    report: DigReport,
-    over_dig: OverDig,
-    feasible: bool,
-    violation: f64,
-    score: f64,
-    removed: f64,
-}
-
-impl Candidate {
-    fn planned(&self, index: usize, extra_evaluations: usize) -> PlannedDig {
-        PlannedDig {
-            index,
-            kind: self.kind,
-            base_x: self.base_x,
-            moved_from: self.moved_from,
-            start: self.start,
-            end: self.end,
-            query: self.query,
-            predicted: self.predicted,
-            params: self.params,
-            outcome: self.outcome,
-            evaluations: self.evaluations + extra_evaluations,
-            report: self.report,
-            over_dig: self.over_dig,
-        }
-    }
-}
-
-/// Design area a carving (the window in `scratch`) removes from `terrain`,
-/// and area it cuts below the design \[m²\].
-fn cut_against_design(
-    terrain: &Terrain,
-    scratch: &CarveBuffer,
-    design: &DesignProfile,
-) -> (f64, f64) {
-    let (lo, window) = scratch.window();
-    let old = &terrain.heights()[lo..lo + window.len()];
-    let (mut removed, mut over) = (0.0, 0.0);
-    for (k, (&new, &old)) in window.iter().zip(old).enumerate() {
-        let d = design.height_at(terrain.x_at(lo + k));
-        removed += (old.min(design.ground) - new.max(d)).max(0.0);
-        over += (old.min(d) - new).max(0.0);
-    }
-    (removed * terrain.dx(), over * terrain.dx())
-}
-
-/// Design area still undug after a carving (the window in `scratch`) on
-/// the far side of `x_s`, up to the far edge \[m²\].
-fn stranded_area(
-    terrain: &Terrain,
-    scratch: &CarveBuffer,
-    design: &DesignProfile,
-    x_s: f64,
-) -> f64 {
-    let (lo, window) = scratch.window();
-    let hi = lo + window.len();
-    let mut sum = 0.0;
-    let j0 = libm::ceil((x_s - terrain.x0()) / terrain.dx()).max(0.0) as usize;
-    for j in j0..terrain.len() {
-        let x = terrain.x_at(j);
-        if x >= design.far_edge {
-            break;
-        }
-        let h = if (lo..hi).contains(&j) {
-            window[j - lo]
-        } else {
-            terrain.heights()[j]
-        };
-        sum += (h.min(design.ground) - design.height_at(x)).max(0.0);
-    }
-    sum * terrain.dx()
 }

@@ -393,27 +393,6 @@ pub fn refine(
     guard: Option<&DesignGuard>,
     settings: &RepairSettings,
 ) -> (DigParams, usize) {
-    refine_by(cfg, task, seed, ground, scratch, guard, settings, |a, _| {
-        a.report.objective
-    })
-}
-
-/// [`refine`] with a caller's cost in place of the dig objective: `cost`
-/// sees each assessment and the carving it left in the scratch buffer
-/// (e.g. to score the cut against a trench's design). Hard constraints
-/// stay hard: the cost of an infeasible dig is penalised by its violation
-/// and only a feasible dig is returned as the best.
-#[allow(clippy::too_many_arguments)]
-pub fn refine_by(
-    cfg: &Config,
-    task: &DigTask,
-    seed: &DigParams,
-    ground: Ground<'_>,
-    scratch: &mut CarveBuffer,
-    guard: Option<&DesignGuard>,
-    settings: &RepairSettings,
-    mut score: impl FnMut(&Assessment, &CarveBuffer) -> f64,
-) -> (DigParams, usize) {
     let budget = settings.budget;
     if budget == 0 {
         return (*seed, 0);
@@ -426,10 +405,13 @@ pub fn refine_by(
         let p = decode(cfg, z);
         match assess(cfg, task, &p, ground, scratch, guard) {
             Ok(a) => {
-                let own = score(&a, scratch);
-                let c = own + settings.penalty * a.violation;
-                if a.feasible && best_feasible.get().is_none_or(|(o, _)| own < o) {
-                    best_feasible.set(Some((own, *z)));
+                let c = a.report.objective + settings.penalty * a.violation;
+                if a.feasible
+                    && best_feasible
+                        .get()
+                        .is_none_or(|(o, _)| a.report.objective < o)
+                {
+                    best_feasible.set(Some((a.report.objective, *z)));
                 }
                 if c.is_finite() { c } else { REJECTED }
             }

@@ -284,13 +284,6 @@ fn fast_settings() -> PlannerSettings {
             budget: 60,
             ..RepairSettings::default()
         },
-        search: infer::planner::SearchSettings {
-            x_step: 0.12,
-            chords: [0.0, 1.0, 1.0],
-            local_budget: 4,
-            refine_budget: 20,
-            ..Default::default()
-        },
         ..PlannerSettings::default()
     }
 }
