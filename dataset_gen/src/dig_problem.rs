@@ -1,14 +1,17 @@
 //! The single-dig problem of spec §6 as a [`Problem`].
 //!
-//! Decision variables Y = [a16, a26, a36, T]. The optimisers see the a_i6
-//! scaled by [`A6_SCALE`] (so every variable has an O(1) range) and T in
-//! seconds; [`DigProblem::to_params`] undoes the scaling.
+//! Decision variables Y = [a16, a26, a36, T]. The optimisers do not search
+//! a_i6 itself but the bend it gives at mid-dig, b_i = a_i6 (T/2)⁶ \[rad\]
+//! (the bending term a_i6 t³(t − T)³ is −b_i at t = T/2), with T in seconds;
+//! [`DigProblem::to_params`] maps back. In a_i6 the same path shape moves
+//! whenever T changes (a_i6 ∝ T⁻⁶), which couples the variables badly; in
+//! b_i shape and timing are independent and every variable is O(1).
 //!
 //! Bounds (documented defaults, [`DigBounds::default`]):
-//! * a_i6 ∈ [−2·10⁻³, 2·10⁻³] rad/s⁶ for each joint. At T = 7 s the bending
-//!   term a_i6 t³(t − T)³ then reaches ±3.7 rad at mid-dig, far beyond any
-//!   joint range, so the box does not cut off feasible digs; optimal digs
-//!   use |a_i6| ≲ 10⁻⁴.
+//! * |b_i| ≤ 1 rad (57°) per joint. In the default PSO dataset (3,600
+//!   optimised digs) the largest optimal bends were 0.40, 0.71 and 0.33 rad,
+//!   so the box leaves a wide margin without wasting the search on paths
+//!   that leave every joint range.
 //! * T ∈ [5, 10] s, the duration constraint itself.
 //!
 //! Objectives: [`DigObjective::Weighted`] is λ1 T_t + λ2 E_e + λ3 V_v
@@ -28,8 +31,6 @@ use infer::{
 };
 use serde::{Deserialize, Serialize};
 
-/// a_i6 = x_i · A6_SCALE for the optimiser's x_i, i = 0..3.
-pub const A6_SCALE: f64 = 1e-3;
 /// Violation given to a dig the model could not evaluate.
 pub const EVAL_ERROR_VIOLATION: f64 = 1e3;
 /// The terrain of a single dig spans x ∈ [−1.5, 1.5] m, beyond the arm's
@@ -38,8 +39,8 @@ pub const TERRAIN_EXTENT: [f64; 2] = [-1.5, 1.5];
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct DigBounds {
-    /// |a_i6| ≤ a6_max\[i\] \[rad/s⁶\].
-    pub a6_max: [f64; 3],
+    /// |b_i| = |a_i6| (T/2)⁶ ≤ bend_max\[i\] \[rad\].
+    pub bend_max: [f64; 3],
     /// T range \[s\].
     pub duration: [f64; 2],
 }
@@ -47,7 +48,7 @@ pub struct DigBounds {
 impl Default for DigBounds {
     fn default() -> Self {
         DigBounds {
-            a6_max: [2e-3; 3],
+            bend_max: [1.0; 3],
             duration: [5.0, 10.0],
         }
     }
@@ -89,15 +90,15 @@ impl DigProblem {
             query.surface,
         )?);
         let lo = vec![
-            -bounds.a6_max[0] / A6_SCALE,
-            -bounds.a6_max[1] / A6_SCALE,
-            -bounds.a6_max[2] / A6_SCALE,
+            -bounds.bend_max[0],
+            -bounds.bend_max[1],
+            -bounds.bend_max[2],
             bounds.duration[0],
         ];
         let hi = vec![
-            bounds.a6_max[0] / A6_SCALE,
-            bounds.a6_max[1] / A6_SCALE,
-            bounds.a6_max[2] / A6_SCALE,
+            bounds.bend_max[0],
+            bounds.bend_max[1],
+            bounds.bend_max[2],
             bounds.duration[1],
         ];
         if bounds.duration[0].is_nan() || bounds.duration[0] <= 0.0 {
@@ -116,20 +117,22 @@ impl DigProblem {
         })
     }
 
-    /// Y = [a16, a26, a36, T] from the optimiser's variables.
+    /// Y = [a16, a26, a36, T] from the optimiser's variables [b1, b2, b3, T].
     pub fn to_params(x: &[f64]) -> DigParams {
+        let half6 = (x[3] / 2.0).powi(6);
         DigParams {
-            a6: [x[0] * A6_SCALE, x[1] * A6_SCALE, x[2] * A6_SCALE],
+            a6: [x[0] / half6, x[1] / half6, x[2] / half6],
             duration: x[3],
         }
     }
 
     /// The optimiser's variables for Y.
     pub fn from_params(p: &DigParams) -> Vec<f64> {
+        let half6 = (p.duration / 2.0).powi(6);
         vec![
-            p.a6[0] / A6_SCALE,
-            p.a6[1] / A6_SCALE,
-            p.a6[2] / A6_SCALE,
+            p.a6[0] * half6,
+            p.a6[1] * half6,
+            p.a6[2] * half6,
             p.duration,
         ]
     }
