@@ -1,1 +1,5 @@
-//! Placeholder: filled in by its issue.
+//! The burn side of the dig planner: the network that maps a dig query to a
+//! trajectory (`network`) and the physics of `infer` in differentiable tensor
+//! form for the physics-informed losses (`physics`).
+
+pub mod network;

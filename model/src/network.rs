@@ -1,0 +1,302 @@
+//! The dig network: X = [θ_s1, θ_s2, θ_s3, θ_e1, θ_e2, θ_e3, H] → Y = [a16,
+//! a26, a36, T] (spec §7–8), a dense tanh network with its input and output
+//! normalisation stored in the module, so that a saved record is a whole
+//! model.
+//!
+//! * [`DigNet::forward`] takes raw X and returns the *normalised* output
+//!   y_n = (Y − μ_y) / σ_y, which is what the data loss compares;
+//! * [`DigNet::predict`] returns raw Y, which is what the physics evaluates;
+//! * [`DigNet::export`] writes the weights in `infer`'s flat
+//!   `dig-network/1` layout, which `infer::network::Network` evaluates
+//!   without burn (the same numbers to rounding, see `tests/export.rs`).
+//!
+//! The normalisation constants are `Param`s with `require_grad = false`:
+//! burn-store saves and loads them with the weights, and the optimiser
+//! leaves them alone.
+
+use burn::module::{Module, Param};
+use burn::nn::{Linear, LinearConfig, Tanh};
+use burn::prelude::*;
+use burn::tensor::TensorData;
+use infer::DigType;
+use infer::network::{INPUTS, NetworkFile, OUTPUTS};
+use serde::{Deserialize, Serialize};
+
+/// The activation between hidden layers. `infer`'s forward pass knows only
+/// tanh, so that is the only choice; the field makes the saved config say so.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum Activation {
+    #[default]
+    Tanh,
+}
+
+/// How to build a [`DigNet`]: the dig type it plans and its hidden widths.
+#[derive(Config, Debug)]
+pub struct DigNetConfig {
+    /// The dig type the network is trained for (written into its export).
+    pub kind: DigType,
+    /// Hidden layer widths; the source uses 3 × 70 (downward) and 3 × 60 (backward).
+    #[config(default = "vec![70, 70, 70]")]
+    pub hidden: Vec<usize>,
+    #[config(default = "Activation::Tanh")]
+    pub activation: Activation,
+}
+
+impl DigNetConfig {
+    /// The source's architecture for a dig type (spec §8).
+    pub fn source(kind: DigType) -> Self {
+        let width = match kind {
+            DigType::Downward => 70,
+            DigType::Backward => 60,
+        };
+        DigNetConfig::new(kind).with_hidden(vec![width; 3])
+    }
+
+    /// Layer widths, inputs first: [7, hidden…, 4].
+    pub fn widths(&self) -> Vec<usize> {
+        let mut w = vec![INPUTS];
+        w.extend(&self.hidden);
+        w.push(OUTPUTS);
+        w
+    }
+
+    /// A fresh network with identity normalisation (μ = 0, σ = 1) and
+    /// burn's default initialisation (the backend's RNG, see `Device::seed`);
+    /// set the training set's statistics with [`DigNet::with_normalisation`].
+    pub fn init(&self, device: &Device) -> DigNet {
+        let widths = self.widths();
+        let layers = widths
+            .windows(2)
+            .map(|w| LinearConfig::new(w[0], w[1]).init(device))
+            .collect();
+        self.assemble(layers, device)
+    }
+
+    /// [`init`](Self::init) with weights and biases drawn from
+    /// U(−1/√fan_in, 1/√fan_in) (burn's and PyTorch's default) by a
+    /// generator of its own: the same seed gives the same network on every
+    /// backend, whatever else uses the backend's process-global RNG.
+    pub fn init_seeded(&self, device: &Device, seed: u64) -> DigNet {
+        let mut state = seed;
+        let mut uniform = move || {
+            // SplitMix64 → [0, 1).
+            state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut z = state;
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let widths = self.widths();
+        let layers = widths
+            .windows(2)
+            .map(|w| {
+                let (d_in, d_out) = (w[0], w[1]);
+                let k = 1.0 / (d_in as f64).sqrt();
+                let mut draw = |n: usize| -> Vec<f64> {
+                    (0..n).map(|_| (2.0 * uniform() - 1.0) * k).collect()
+                };
+                let weight = draw(d_in * d_out);
+                let bias = draw(d_out);
+                Linear {
+                    weight: Param::from_tensor(Tensor::from_data(
+                        TensorData::new(weight, [d_in, d_out]),
+                        device,
+                    )),
+                    bias: Some(Param::from_tensor(Tensor::from_data(
+                        TensorData::new(bias, [d_out]),
+                        device,
+                    ))),
+                }
+            })
+            .collect();
+        self.assemble(layers, device)
+    }
+
+    fn assemble(&self, layers: Vec<Linear>, device: &Device) -> DigNet {
+        let buffer = |values: Vec<f64>| {
+            let n = values.len();
+            Param::from_tensor(Tensor::from_data(TensorData::new(values, [n]), device))
+                .set_require_grad(false)
+        };
+        DigNet {
+            layers,
+            activation: Tanh::new(),
+            x_mean: buffer(vec![0.0; INPUTS]),
+            x_std: buffer(vec![1.0; INPUTS]),
+            y_mean: buffer(vec![0.0; OUTPUTS]),
+            y_std: buffer(vec![1.0; OUTPUTS]),
+            kind: self.kind,
+        }
+    }
+}
+
+/// Mean and standard deviation of the inputs and outputs of a training set.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Normalisation {
+    pub x_mean: [f64; INPUTS],
+    pub x_std: [f64; INPUTS],
+    pub y_mean: [f64; OUTPUTS],
+    pub y_std: [f64; OUTPUTS],
+}
+
+impl Normalisation {
+    /// Column means and (population) standard deviations; a column with
+    /// (almost) no spread gets σ = 1 so that it cannot divide by zero.
+    pub fn fit(x: &[[f64; INPUTS]], y: &[[f64; OUTPUTS]]) -> Self {
+        fn stats<const N: usize>(rows: &[[f64; N]]) -> ([f64; N], [f64; N]) {
+            let n = rows.len().max(1) as f64;
+            let mean: [f64; N] =
+                core::array::from_fn(|j| rows.iter().map(|r| r[j]).sum::<f64>() / n);
+            let std = core::array::from_fn(|j| {
+                let var = rows.iter().map(|r| (r[j] - mean[j]).powi(2)).sum::<f64>() / n;
+                let s = var.sqrt();
+                if s > 1e-12 * mean[j].abs().max(1e-300) && s > 0.0 {
+                    s
+                } else {
+                    1.0
+                }
+            });
+            (mean, std)
+        }
+        let (x_mean, x_std) = stats(x);
+        let (y_mean, y_std) = stats(y);
+        Normalisation {
+            x_mean,
+            x_std,
+            y_mean,
+            y_std,
+        }
+    }
+}
+
+/// The network (see the module docs).
+#[derive(Module, Debug)]
+pub struct DigNet {
+    /// Dense layers, inputs first; tanh after every one but the last.
+    pub layers: Vec<Linear>,
+    pub activation: Tanh,
+    /// μ_x, σ_x: inputs are normalised as (X − μ_x) / σ_x.
+    pub x_mean: Param<Tensor<1>>,
+    pub x_std: Param<Tensor<1>>,
+    /// μ_y, σ_y: outputs are Y = y_n σ_y + μ_y.
+    pub y_mean: Param<Tensor<1>>,
+    pub y_std: Param<Tensor<1>>,
+    #[module(skip)]
+    pub kind: DigType,
+}
+
+fn row(v: Param<Tensor<1>>) -> Tensor<2> {
+    v.val().unsqueeze_dim::<2>(0)
+}
+
+fn buffer_like(values: &[f64], like: &Param<Tensor<1>>) -> Param<Tensor<1>> {
+    let device = like.val().device();
+    Param::from_tensor(Tensor::from_data(
+        TensorData::new(values.to_vec(), [values.len()]),
+        &device,
+    ))
+    .set_require_grad(false)
+}
+
+fn to_f64(t: Tensor<1>) -> Vec<f64> {
+    t.into_data()
+        .try_into_vec_as::<f64>()
+        .expect("a float tensor converts to f64")
+}
+
+impl DigNet {
+    /// Sets the normalisation constants (from the training split).
+    pub fn with_normalisation(mut self, n: &Normalisation) -> Self {
+        self.x_mean = buffer_like(&n.x_mean, &self.x_mean);
+        self.x_std = buffer_like(&n.x_std, &self.x_std);
+        self.y_mean = buffer_like(&n.y_mean, &self.y_mean);
+        self.y_std = buffer_like(&n.y_std, &self.y_std);
+        self
+    }
+
+    /// The stored normalisation constants.
+    pub fn normalisation(&self) -> Normalisation {
+        let arr = |p: &Param<Tensor<1>>| to_f64(p.val());
+        Normalisation {
+            x_mean: arr(&self.x_mean).try_into().expect("7 input means"),
+            x_std: arr(&self.x_std).try_into().expect("7 input scales"),
+            y_mean: arr(&self.y_mean).try_into().expect("4 output means"),
+            y_std: arr(&self.y_std).try_into().expect("4 output scales"),
+        }
+    }
+
+    /// Raw X [B, 7] → normalised prediction y_n [B, 4].
+    pub fn forward(&self, x_raw: Tensor<2>) -> Tensor<2> {
+        let mut h = (x_raw - row(self.x_mean.clone())) / row(self.x_std.clone());
+        let last = self.layers.len() - 1;
+        for (i, layer) in self.layers.iter().enumerate() {
+            h = layer.forward(h);
+            if i < last {
+                h = self.activation.forward(h);
+            }
+        }
+        h
+    }
+
+    /// Raw X [B, 7] → raw Y [B, 4].
+    pub fn predict(&self, x_raw: Tensor<2>) -> Tensor<2> {
+        self.denormalise_y(self.forward(x_raw))
+    }
+
+    /// y_n → Y = y_n σ_y + μ_y.
+    pub fn denormalise_y(&self, y_n: Tensor<2>) -> Tensor<2> {
+        y_n * row(self.y_std.clone()) + row(self.y_mean.clone())
+    }
+
+    /// Y → y_n = (Y − μ_y) / σ_y.
+    pub fn normalise_y(&self, y_raw: Tensor<2>) -> Tensor<2> {
+        (y_raw - row(self.y_mean.clone())) / row(self.y_std.clone())
+    }
+
+    /// Layer widths, inputs first.
+    pub fn widths(&self) -> Vec<usize> {
+        let mut w = vec![self.layers[0].weight.dims()[0]];
+        w.extend(self.layers.iter().map(|l| l.weight.dims()[1]));
+        w
+    }
+
+    /// Sum of squares of every weight matrix (biases and normalisation
+    /// excluded): R(W) of spec §8, as a one-element tensor.
+    pub fn weight_penalty(&self) -> Tensor<1> {
+        self.layers
+            .iter()
+            .map(|l| l.weight.val().powi_scalar(2).sum())
+            .reduce(|a, b| a + b)
+            .expect("at least one layer")
+    }
+
+    /// The weights in `infer`'s `dig-network/1` layout. burn's `Linear`
+    /// stores W as [in, out] (y = x W + b); infer wants out rows of `in`
+    /// values, so every matrix is transposed here.
+    pub fn export(&self) -> NetworkFile {
+        let n = self.normalisation();
+        let mut params: Vec<f64> = Vec::new();
+        params.extend(n.x_mean);
+        params.extend(n.x_std);
+        params.extend(n.y_mean);
+        params.extend(n.y_std);
+        for layer in &self.layers {
+            let [d_in, d_out] = layer.weight.dims();
+            let w = to_f64(layer.weight.val().reshape([d_in * d_out]));
+            for o in 0..d_out {
+                params.extend((0..d_in).map(|i| w[i * d_out + o]));
+            }
+            match &layer.bias {
+                Some(b) => params.extend(to_f64(b.val())),
+                None => params.extend(std::iter::repeat_n(0.0, d_out)),
+            }
+        }
+        NetworkFile {
+            format: NetworkFile::FORMAT.to_string(),
+            dig_type: self.kind,
+            widths: self.widths(),
+            params,
+        }
+    }
+}

@@ -1,0 +1,189 @@
+//! One dig type end to end: data, training (and the ablation), artifacts.
+
+use crate::config::TrainConfig;
+use crate::data::{self, Split};
+use crate::error::TrainError;
+use crate::report::{self, DatasetInfo, Report, VariantReport};
+use crate::training::{self, RunPaths, TrainOutcome, make_device};
+use burn::store::{BurnpackStore, ModuleSnapshot};
+use std::path::{Path, PathBuf};
+
+/// Where a job reads and writes.
+#[derive(Debug, Clone)]
+pub struct JobOptions {
+    /// A dataset file, or a directory holding `dataset.mcap` or `*.mcap`.
+    pub dataset: PathBuf,
+    /// Artifacts: `network_<type>.json` and `<type>/…`.
+    pub out: PathBuf,
+    /// Checkpoints: `<work>/<type>[-ablation]/checkpoint`.
+    pub work: PathBuf,
+    pub resume: bool,
+    /// Also train the other variant (physics on ↔ off) on the same split.
+    pub ablation: bool,
+    pub progress: bool,
+}
+
+fn write(path: &Path, text: &str) -> Result<(), TrainError> {
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir).map_err(|e| TrainError::io(dir, e))?;
+    }
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".tmp");
+    std::fs::write(&tmp, text).map_err(|e| TrainError::io(path, e))?;
+    std::fs::rename(&tmp, path).map_err(|e| TrainError::io(path, e))
+}
+
+fn machine() -> String {
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|c| {
+            c.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|s| s.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown CPU".into());
+    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
+    format!("{cores} cores, {cpu}")
+}
+
+/// The dataset's generating command, from the configuration recorded in it.
+fn dataset_command(files: &[PathBuf], generator: Option<&serde_json::Value>) -> String {
+    let Some(g) = generator else {
+        return format!("(no generator recorded in {files:?})");
+    };
+    let alg = g["algorithm"]
+        .as_object()
+        .and_then(|o| o.keys().next().cloned())
+        .or_else(|| g["algorithm"].as_str().map(str::to_string))
+        .unwrap_or_else(|| "pso".into());
+    format!(
+        "cargo run --release -p dataset_gen -- generate --algorithm {} --iterations {} --per-type {} --seed {} --out {}",
+        alg.to_lowercase(),
+        g["iterations"],
+        g["per_type"],
+        g["master_seed"],
+        files
+            .first()
+            .and_then(|f| f.parent())
+            .map_or(".".into(), |p| p.display().to_string())
+    )
+}
+
+/// Loads and splits the samples of the configuration's dig type.
+pub fn load_split(cfg: &TrainConfig, dataset: &Path) -> Result<(Split, DatasetInfo), TrainError> {
+    let kind = cfg.kind();
+    let files = data::dataset_files(dataset)?;
+    let samples = data::load(&files, kind)?;
+    let generator = dataset_gen::dataset::read_dataset(&files[0])?.config();
+    let split = data::split(samples, kind, &cfg.data, cfg.seed)?;
+    let info = DatasetInfo {
+        command: dataset_command(&files, generator.as_ref()),
+        files: files.iter().map(|f| f.display().to_string()).collect(),
+        generator: generator.map(|mut g| {
+            // The model parameters are infer's defaults; keep the report short.
+            if let Some(o) = g.as_object_mut() {
+                o.remove("model");
+            }
+            g
+        }),
+        samples_of_type: split.total,
+        dropped_infeasible: split.dropped_infeasible,
+        train: split.train.len(),
+        validation: split.validation.len(),
+        test: split.test.len(),
+    };
+    Ok((split, info))
+}
+
+fn variant_name(cfg: &TrainConfig) -> &'static str {
+    if cfg.loss.physics {
+        "physics-informed"
+    } else {
+        "data-only"
+    }
+}
+
+fn train_variant(
+    cfg: &TrainConfig,
+    split: &Split,
+    opts: &JobOptions,
+    suffix: &str,
+) -> Result<(TrainOutcome, VariantReport), TrainError> {
+    let paths = RunPaths {
+        checkpoint_dir: training::checkpoint_dir(&opts.work, cfg.kind(), suffix),
+        resume: opts.resume,
+    };
+    let outcome = training::train(cfg, split, &paths, opts.progress)?;
+    let device = make_device(&cfg.runtime, cfg.seed)?;
+    let summary = report::summarise(variant_name(cfg), cfg, &outcome, split, &device)?;
+    Ok((outcome, summary))
+}
+
+/// Trains the configuration's dig type and writes its artifacts.
+pub fn run(cfg: &TrainConfig, opts: &JobOptions) -> Result<Report, TrainError> {
+    cfg.validate()?;
+    let kind = cfg.kind();
+    let (split, dataset) = load_split(cfg, &opts.dataset)?;
+    eprintln!(
+        "{kind}: {} samples ({} infeasible dropped) → {} train / {} validation / {} test",
+        split.total,
+        split.dropped_infeasible,
+        split.train.len(),
+        split.validation.len(),
+        split.test.len()
+    );
+    let (outcome, model) = train_variant(cfg, &split, opts, "")?;
+    let (ablation, ablation_log) = if opts.ablation {
+        let mut other = cfg.clone();
+        other.loss.physics = !cfg.loss.physics;
+        let (o, v) = train_variant(&other, &split, opts, "-ablation")?;
+        (Some(v), Some(o.log))
+    } else {
+        (None, None)
+    };
+
+    let dir = opts.out.join(kind.name());
+    std::fs::create_dir_all(&dir).map_err(|e| TrainError::io(&dir, e))?;
+    outcome
+        .model
+        .save_into(
+            &mut BurnpackStore::from_file(dir.join("model.bpk"))
+                .auto_extension(false)
+                .overwrite(true),
+        )
+        .map_err(|e| TrainError::Checkpoint {
+            path: dir.join("model.bpk"),
+            detail: format!("{e:?}"),
+        })?;
+    write(&dir.join("config.json"), &pretty(cfg))?;
+    write(
+        &opts.out.join(format!("network_{}.json", kind.name())),
+        &outcome.model.export().to_json(),
+    )?;
+    let report = Report {
+        dig_type: kind,
+        config: cfg.clone(),
+        targets: cfg.targets,
+        dataset,
+        model,
+        ablation,
+        machine: machine(),
+        log: outcome.log.clone(),
+        ablation_log,
+    };
+    write(&dir.join("report.json"), &pretty(&report))?;
+    write(&dir.join("report.md"), &report::markdown(&report))?;
+    report::plot(
+        &dir.join("loss.svg"),
+        &format!("{kind} digs: loss terms per epoch (log scale)"),
+        &report.log,
+        report.ablation_log.as_deref(),
+        &cfg.targets,
+    )?;
+    Ok(report)
+}
+
+fn pretty<T: serde::Serialize>(v: &T) -> String {
+    serde_json::to_string_pretty(v).expect("configs and reports always serialise")
+}
