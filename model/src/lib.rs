@@ -3,3 +3,4 @@
 //! form for the physics-informed losses (`physics`).
 
 pub mod network;
+pub mod physics;
