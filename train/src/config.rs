@@ -119,14 +119,18 @@ pub struct RuntimeConfig {
 
 impl TrainConfig {
     /// The defaults for a dig type: the source's architecture and batch
-    /// size; Adam at 3e-3 decaying to 1e-5 instead of the source's 1e-4
-    /// (measured: same accuracy in a fraction of the epochs).
+    /// size; Adam at 3e-3 decaying by 0.998 per epoch instead of the
+    /// source's 1e-4; constraint weight λ_C = 10 (measured over 300 epochs
+    /// on downward digs, test split feasible before repair / relative
+    /// performance: λ_C = 1: 31 % / 98 %, 10: 81 % / 92 %, 30: 92 % / 87 %,
+    /// 100: 96 % / 84 %, 1000: 98 % / 74 %); the physics on 65 time
+    /// samples; 300 s per variant.
     pub fn for_type(kind: DigType) -> Self {
         TrainConfig {
             model: DigNetConfig::source(kind),
             optimiser: OptimiserConfig {
                 learning_rate: 3e-3,
-                decay: 0.995,
+                decay: 0.998,
                 min_learning_rate: 1e-5,
                 batch_size: match kind {
                     DigType::Downward => 50,
@@ -134,9 +138,12 @@ impl TrainConfig {
                 },
             },
             loss: LossConfig {
-                weights: LossWeights::default(),
+                weights: LossWeights {
+                    constraint: 10.0,
+                    ..LossWeights::default()
+                },
                 physics: true,
-                time_samples: 33,
+                time_samples: 65,
             },
             data: DataConfig {
                 validation_fraction: 200.0 / 1800.0,
@@ -145,7 +152,7 @@ impl TrainConfig {
             },
             budget: Budget {
                 max_epochs: 2000,
-                max_seconds: 600.0,
+                max_seconds: 300.0,
                 stop_at_targets: false,
                 extra_epochs_after_targets: 0,
             },
@@ -153,7 +160,7 @@ impl TrainConfig {
             runtime: RuntimeConfig {
                 backend: "flex".into(),
                 dtype: "f32".into(),
-                threads: 2,
+                threads: 1,
                 checkpoint_every: 25,
             },
             seed: 1,

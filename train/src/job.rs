@@ -52,14 +52,12 @@ fn dataset_command(files: &[PathBuf], generator: Option<&serde_json::Value>) -> 
     let Some(g) = generator else {
         return format!("(no generator recorded in {files:?})");
     };
-    let alg = g["algorithm"]
-        .as_object()
-        .and_then(|o| o.keys().next().cloned())
-        .or_else(|| g["algorithm"].as_str().map(str::to_string))
-        .unwrap_or_else(|| "pso".into());
+    let alg = &g["algorithm"];
+    let name = alg["name"].as_str().unwrap_or("pso");
     format!(
-        "cargo run --release -p dataset_gen -- generate --algorithm {} --iterations {} --per-type {} --seed {} --out {}",
-        alg.to_lowercase(),
+        "cargo run --release -p dataset_gen -- generate --algorithm {} --population {} --iterations {} --per-type {} --seed {} --out {}",
+        name,
+        alg["population"],
         g["iterations"],
         g["per_type"],
         g["master_seed"],
