@@ -81,3 +81,51 @@ fn non_finite_inputs_and_parameters_are_errors() {
     p[20] = f64::INFINITY;
     assert!(Network::new(&w, &p).is_err());
 }
+
+/// The networks shipped in `artifacts/` load, have the source's shapes, and
+/// predict an in-range dig for the reference query: stale or broken weights
+/// fail here.
+#[test]
+fn shipped_networks_load_and_predict() {
+    let cfg = infer::Config::default();
+    let query = infer::DigQuery::from_poses(
+        &cfg,
+        &infer::Pose {
+            x: 1.0,
+            y: -0.25,
+            zeta: infer::deg(-90.0),
+        },
+        &infer::Pose {
+            x: 0.7,
+            y: -0.2,
+            zeta: infer::deg(160.0),
+        },
+        cfg.ground_level,
+        DigType::Downward,
+    )
+    .unwrap();
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts");
+    for (kind, hidden) in [(DigType::Downward, 70), (DigType::Backward, 60)] {
+        let path = dir.join(format!("network_{kind}.json"));
+        let text =
+            std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let file = NetworkFile::from_json(&text).unwrap();
+        assert_eq!(file.dig_type, kind);
+        assert_eq!(file.widths, vec![7, hidden, hidden, hidden, 4]);
+        let y = file.network().unwrap().forward(&query.input()).unwrap();
+        assert!((5.0..=10.5).contains(&y[3]), "{kind}: predicted T {}", y[3]);
+        let terrain = infer::Terrain::flat(-1.5, 1.5, cfg.terrain_dx, query.surface).unwrap();
+        let ground = infer::Ground {
+            terrain: &terrain,
+            base_x: 0.0,
+        };
+        let report = infer::evaluate(
+            &cfg,
+            &query.task(),
+            &infer::DigParams::from_array(y),
+            ground,
+            &mut infer::CarveBuffer::default(),
+        );
+        assert!(report.is_ok(), "{kind}: {report:?}");
+    }
+}
