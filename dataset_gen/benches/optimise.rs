@@ -8,26 +8,13 @@ use dataset_gen::algorithms::AnyAlgorithm;
 use dataset_gen::dig_problem::{DigBounds, solve};
 use dataset_gen::rng::rng_from_seed;
 use dataset_gen::runner::Budget;
-use infer::{Config, DigQuery, DigType, Pose, deg};
+use infer::Config;
 
 fn bench(c: &mut Criterion) {
     let cfg = Config::default();
-    let q = DigQuery::from_poses(
-        &cfg,
-        &Pose {
-            x: 1.0,
-            y: -0.25,
-            zeta: deg(-90.0),
-        },
-        &Pose {
-            x: 0.7,
-            y: -0.2,
-            zeta: deg(160.0),
-        },
-        -0.25,
-        DigType::Downward,
-    )
-    .expect("example dig is reachable");
+    let q = infer::query::reference_dig(&cfg)
+        .expect("reference dig is reachable")
+        .0;
     let mut g = c.benchmark_group("single_dig");
     g.sample_size(10);
     for (name, pop) in [("pso", 50), ("gwo", 50), ("nsga2", 100)] {

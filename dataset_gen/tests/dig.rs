@@ -6,26 +6,11 @@ use dataset_gen::problem::Problem;
 use dataset_gen::rng::rng_from_seed;
 use dataset_gen::runner::Budget;
 use dataset_gen::sampler::QuerySampler;
-use infer::{Config, DigQuery, DigType, Pose, deg, forward};
+use infer::{Config, DigQuery, DigType, forward};
 
 fn example() -> (Config, DigQuery) {
     let cfg = Config::default();
-    let q = DigQuery::from_poses(
-        &cfg,
-        &Pose {
-            x: 1.0,
-            y: -0.25,
-            zeta: deg(-90.0),
-        },
-        &Pose {
-            x: 0.7,
-            y: -0.2,
-            zeta: deg(160.0),
-        },
-        -0.25,
-        DigType::Downward,
-    )
-    .unwrap();
+    let q = infer::query::reference_dig(&cfg).unwrap().0;
     (cfg, q)
 }
 

@@ -2,29 +2,13 @@
 //! core of the 2-core development machine).
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use infer::{CarveBuffer, Config, DigParams, DigQuery, DigType, Ground, Pose, Terrain, deg};
+use infer::{CarveBuffer, Config, Ground, Terrain};
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {
     let cfg = Config::default();
-    let q = DigQuery::from_poses(
-        &cfg,
-        &Pose {
-            x: 1.0,
-            y: -0.25,
-            zeta: deg(-90.0),
-        },
-        &Pose {
-            x: 0.7,
-            y: -0.2,
-            zeta: deg(160.0),
-        },
-        cfg.ground_level,
-        DigType::Downward,
-    )
-    .unwrap();
+    let (q, y) = infer::query::reference_dig(&cfg).unwrap();
     let terrain = Terrain::flat(-1.5, 1.5, cfg.terrain_dx, q.surface).unwrap();
-    let y = DigParams::from_array([4.469e-5, 4.926e-5, 1.0e-7, 7.011]);
     let task = q.task();
     let mut buf = CarveBuffer::default();
     c.bench_function(&format!("evaluate_dig_{}_samples", cfg.time_samples), |b| {

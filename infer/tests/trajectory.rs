@@ -38,7 +38,11 @@ fn derivatives_and_coefficients_are_consistent() {
         let st = tr.at(t);
         #[allow(clippy::needless_range_loop)] // i indexes four parallel arrays
         for i in 0..3 {
-            let poly: f64 = c[i].iter().enumerate().map(|(k, a)| a * t.powi(k as i32)).sum();
+            let poly: f64 = c[i]
+                .iter()
+                .enumerate()
+                .map(|(k, a)| a * t.powi(k as i32))
+                .sum();
             assert!(
                 (poly - st.q[i]).abs() < 1e-9 * (1.0 + poly.abs()),
                 "{poly} vs {}",

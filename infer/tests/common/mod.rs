@@ -1,39 +1,15 @@
 //! Shared fixtures for the integration tests.
 #![allow(dead_code)]
 
-use infer::{
-    CarveBuffer, Config, DigParams, DigQuery, DigReport, DigType, Ground, Pose, Terrain, deg,
-};
+use infer::{CarveBuffer, Config, DigParams, DigQuery, DigReport, Ground, Terrain};
 
-/// The spec's reference dig (§2 practice notes): from a far, teeth-down pose
-/// to a curled one, on flat ground.
+/// The spec's reference dig query.
 pub fn reference_query(cfg: &Config) -> DigQuery {
-    DigQuery::from_poses(
-        cfg,
-        &Pose {
-            x: 1.0,
-            y: -0.25,
-            zeta: deg(-90.0),
-        },
-        &Pose {
-            x: 0.7,
-            y: -0.2,
-            zeta: deg(160.0),
-        },
-        cfg.ground_level,
-        DigType::Downward,
-    )
-    .unwrap()
+    infer::query::reference_dig(cfg).unwrap().0
 }
 
-/// A feasible, well-filled Y for the reference dig (found by a random search;
-/// the optimisers in `dataset_gen` find it too).
-pub const REFERENCE_Y: [f64; 4] = [
-    4.469179790059986e-5,
-    4.926437955921504e-5,
-    1.000755579195565e-7,
-    7.011485315577017,
-];
+#[allow(unused_imports)] // not every test binary uses it
+pub use infer::query::REFERENCE_Y;
 
 pub fn flat(cfg: &Config, h: f64) -> Terrain {
     Terrain::flat(-1.5, 1.5, cfg.terrain_dx, h).unwrap()

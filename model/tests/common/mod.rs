@@ -4,9 +4,7 @@
 
 use burn::prelude::*;
 use burn::tensor::{FloatDType, TensorData};
-use infer::{
-    CarveBuffer, Config, DigParams, DigQuery, DigReport, DigType, Pose, QueryRanges, Terrain,
-};
+use infer::{CarveBuffer, Config, DigParams, DigQuery, DigReport, DigType, QueryRanges, Terrain};
 use model::physics::{Figures, violation_names};
 
 /// The pure-Rust CPU backend, its float dtype set once per test binary
@@ -63,30 +61,7 @@ pub struct Dig {
 /// The feasible reference dig of the brief: start (1.0, −0.25, −90°), end
 /// (0.7, −0.2, 160°), H = −0.25, downward.
 pub fn reference(cfg: &Config) -> (DigQuery, DigParams) {
-    let deg = infer::deg;
-    let q = DigQuery::from_poses(
-        cfg,
-        &Pose {
-            x: 1.0,
-            y: -0.25,
-            zeta: deg(-90.0),
-        },
-        &Pose {
-            x: 0.7,
-            y: -0.2,
-            zeta: deg(160.0),
-        },
-        -0.25,
-        DigType::Downward,
-    )
-    .expect("reference dig is reachable");
-    let p = DigParams::from_array([
-        4.469179790059986e-5,
-        4.926437955921504e-5,
-        1.000755579195565e-7,
-        7.011485315577017,
-    ]);
-    (q, p)
+    infer::query::reference_dig(cfg).expect("reference dig is reachable")
 }
 
 /// `infer::evaluate` on a flat surface at the query's H, with the volume dug
