@@ -108,10 +108,6 @@ impl Algorithm for Gwo {
         }
     }
 
-    fn settings(&self) -> serde_json::Value {
-        serde_json::to_value(self).unwrap_or_default()
-    }
-
     fn validate(&self, _dim: usize, n_objectives: usize) -> Result<(), Error> {
         if self.population < 3 {
             return Err(Error::BadSettings(format!(
@@ -119,11 +115,7 @@ impl Algorithm for Gwo {
                 self.population
             )));
         }
-        if n_objectives != 1 {
-            return Err(Error::BadSettings(format!(
-                "GWO is single-objective, the problem has {n_objectives} objectives"
-            )));
-        }
+        super::require_single_objective("GWO", n_objectives)?;
         Ok(())
     }
 

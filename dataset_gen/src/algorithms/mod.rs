@@ -15,13 +15,26 @@ pub use gwo::{Gwo, GwoInit};
 pub use nsga2::Nsga2;
 pub use pso::{Pso, PsoVariant};
 
+/// Error unless the problem has one objective (PSO, GWO).
+pub(crate) fn require_single_objective(algorithm: &str, n_objectives: usize) -> Result<(), Error> {
+    if n_objectives == 1 {
+        Ok(())
+    } else {
+        Err(Error::BadSettings(format!(
+            "{algorithm} is single-objective, the problem has {n_objectives} objectives"
+        )))
+    }
+}
+
 /// An optimiser. `total` is the iteration budget, which some algorithms
 /// use in their schedule (GWO's a, PSO's decreasing inertia).
-pub trait Algorithm {
+pub trait Algorithm: serde::Serialize {
     type State;
     fn name(&self) -> &'static str;
     /// The settings, for reports and dataset metadata.
-    fn settings(&self) -> serde_json::Value;
+    fn settings(&self) -> serde_json::Value {
+        serde_json::to_value(self).unwrap_or_default()
+    }
     /// Error unless the settings suit a problem of this size.
     fn validate(&self, dim: usize, n_objectives: usize) -> Result<(), Error>;
     fn init<P: Problem + ?Sized>(

@@ -272,10 +272,6 @@ impl Algorithm for Nsga2 {
         "nsga2"
     }
 
-    fn settings(&self) -> serde_json::Value {
-        serde_json::to_value(self).unwrap_or_default()
-    }
-
     fn validate(&self, _dim: usize, _n_objectives: usize) -> Result<(), Error> {
         if self.population < 4 {
             return Err(Error::BadSettings(format!(

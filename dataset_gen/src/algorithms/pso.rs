@@ -98,10 +98,6 @@ impl Algorithm for Pso {
         "pso"
     }
 
-    fn settings(&self) -> serde_json::Value {
-        serde_json::to_value(self).unwrap_or_default()
-    }
-
     fn validate(&self, _dim: usize, n_objectives: usize) -> Result<(), Error> {
         if self.population < 2 {
             return Err(Error::BadSettings(format!(
@@ -109,11 +105,7 @@ impl Algorithm for Pso {
                 self.population
             )));
         }
-        if n_objectives != 1 {
-            return Err(Error::BadSettings(format!(
-                "PSO is single-objective, the problem has {n_objectives} objectives"
-            )));
-        }
+        super::require_single_objective("PSO", n_objectives)?;
         if !(self.vmax_fraction.is_finite() && self.vmax_fraction > 0.0) {
             return Err(Error::BadSettings(
                 "PSO vmax_fraction must be positive".into(),
