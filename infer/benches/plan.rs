@@ -42,7 +42,7 @@ struct Replay {
     next: usize,
 }
 impl DigPredictor for Replay {
-    fn predict(&mut self, _: &DigQuery) -> Result<DigParams, Error> {
+    fn predict(&mut self, _: &DigQuery, _: Ground<'_>) -> Result<DigParams, Error> {
         let y = self.ys[self.next % self.ys.len()];
         self.next += 1;
         Ok(y)

@@ -530,13 +530,13 @@ impl Planner {
             surface,
             kind,
         };
-        let predicted = predictor
-            .predict(&query)
-            .map_err(|error| PlanError::Predictor { dig: index, error })?;
         let ground = Ground {
             terrain: &state.terrain,
             base_x,
         };
+        let predicted = predictor
+            .predict(&query, ground)
+            .map_err(|error| PlanError::Predictor { dig: index, error })?;
         let repaired = repair(
             &self.cfg,
             &query.task(),

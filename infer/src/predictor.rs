@@ -17,12 +17,16 @@ use crate::trajectory::DigParams;
 /// generator, a cache, scratch buffers); they must not allocate per call if
 /// the planner is to stay allocation-free.
 pub trait DigPredictor {
-    fn predict(&mut self, query: &DigQuery) -> Result<DigParams, Error>;
+    /// Y for `query`. `ground` is the surface the dig will really be made
+    /// on (the planner's terrain as dug so far, and where the machine
+    /// stands): a network answers from the query alone, as it was trained;
+    /// an optimiser in the loop solves on it.
+    fn predict(&mut self, query: &DigQuery, ground: Ground<'_>) -> Result<DigParams, Error>;
 }
 
 impl<P: DigPredictor + ?Sized> DigPredictor for &mut P {
-    fn predict(&mut self, query: &DigQuery) -> Result<DigParams, Error> {
-        (**self).predict(query)
+    fn predict(&mut self, query: &DigQuery, ground: Ground<'_>) -> Result<DigParams, Error> {
+        (**self).predict(query, ground)
     }
 }
 
@@ -43,7 +47,7 @@ impl<'a> NetworkPair<'a> {
 }
 
 impl DigPredictor for NetworkPair<'_> {
-    fn predict(&mut self, query: &DigQuery) -> Result<DigParams, Error> {
+    fn predict(&mut self, query: &DigQuery, _: Ground<'_>) -> Result<DigParams, Error> {
         let y = self.of(query.kind).forward(&query.input())?;
         Ok(DigParams::from_array(y))
     }
@@ -99,7 +103,7 @@ impl RefinePredictor {
 }
 
 impl DigPredictor for RefinePredictor {
-    fn predict(&mut self, query: &DigQuery) -> Result<DigParams, Error> {
+    fn predict(&mut self, query: &DigQuery, _: Ground<'_>) -> Result<DigParams, Error> {
         query.validate(&self.cfg)?;
         if query.surface != self.surface {
             self.terrain = Self::flat(&self.cfg, query.surface)?;

@@ -273,7 +273,7 @@ fn dig_counts_of_tasks_a_to_d_match_the_source() {
 #[derive(Debug)]
 struct Fixed([f64; 4]);
 impl DigPredictor for Fixed {
-    fn predict(&mut self, _: &DigQuery) -> Result<DigParams, Error> {
+    fn predict(&mut self, _: &DigQuery, _: Ground<'_>) -> Result<DigParams, Error> {
         Ok(DigParams::from_array(self.0))
     }
 }

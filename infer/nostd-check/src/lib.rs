@@ -30,7 +30,7 @@ pub extern "C" fn infer_reference_objective() -> f64 {
 pub extern "C" fn infer_plan_task_a_digs() -> i32 {
     struct Fixed;
     impl infer::DigPredictor for Fixed {
-        fn predict(&mut self, _: &DigQuery) -> Result<DigParams, infer::Error> {
+        fn predict(&mut self, _: &DigQuery, _: Ground<'_>) -> Result<DigParams, infer::Error> {
             Ok(DigParams::from_array([4.469e-5, 4.926e-5, 1.0e-7, 7.011]))
         }
     }
