@@ -14,6 +14,10 @@
 //!   that leave every joint range.
 //! * T ∈ [5, 10] s, the duration constraint itself.
 //!
+//! [`DigProblem::new`] is a dataset's problem: the query's flat surface at
+//! H, the machine at x = 0. [`DigProblem::on_ground`] is the same dig on a
+//! given terrain and machine position (a trench as dug so far).
+//!
 //! Objectives: [`DigObjective::Weighted`] is λ1 T_t + λ2 E_e + λ3 V_v
 //! (PSO, GWO); [`DigObjective::Pareto`] is (T \[s\], W_E \[Wh\], −V \[10⁻³ m³\])
 //! for NSGA-II. The violation is [`infer::DigReport::total_violation`] (a sum
@@ -61,6 +65,16 @@ pub enum DigObjective {
     Pareto,
 }
 
+impl DigObjective {
+    /// Number of objectives: 1 (weighted) or 3 (T, W_E, −V).
+    pub fn count(self) -> usize {
+        match self {
+            DigObjective::Weighted => 1,
+            DigObjective::Pareto => 3,
+        }
+    }
+}
+
 /// One dig to optimise. Owns its terrain and carving buffer, so build one
 /// per query (per thread).
 #[derive(Debug, Clone)]
@@ -68,6 +82,8 @@ pub struct DigProblem {
     cfg: Config,
     task: DigTask,
     terrain: Box<Terrain>,
+    /// x of the boom foot in the terrain's frame \[m\].
+    base_x: f64,
     scratch: Box<CarveBuffer>,
     lo: Vec<f64>,
     hi: Vec<f64>,
@@ -75,20 +91,48 @@ pub struct DigProblem {
 }
 
 impl DigProblem {
+    /// The dig of `query` on a flat surface at its height H, the machine at
+    /// x = 0 (how the datasets are made, spec §7).
     pub fn new(
         cfg: &Config,
         query: &DigQuery,
         bounds: &DigBounds,
         objective: DigObjective,
     ) -> Result<Self, Error> {
-        cfg.validate()?;
         query.validate(cfg)?;
-        let terrain = Box::new(Terrain::flat(
+        let terrain = Terrain::flat(
             TERRAIN_EXTENT[0],
             TERRAIN_EXTENT[1],
             cfg.terrain_dx,
             query.surface,
-        )?);
+        )?;
+        Self::on_ground(cfg, &query.task(), &terrain, 0.0, bounds, objective)
+    }
+
+    /// The dig `task` on a given surface with the boom foot at `base_x` in
+    /// its frame: what a planner in the loop solves, on the terrain the
+    /// earlier digs of a trench left.
+    pub fn on_ground(
+        cfg: &Config,
+        task: &DigTask,
+        terrain: &Terrain,
+        base_x: f64,
+        bounds: &DigBounds,
+        objective: DigObjective,
+    ) -> Result<Self, Error> {
+        cfg.validate()?;
+        infer::kinematics::check_joint_range(&cfg.machine, &task.start)?;
+        infer::kinematics::check_joint_range(&cfg.machine, &task.end)?;
+        if !base_x.is_finite() {
+            return Err(Error::BadProblem(format!(
+                "the machine position base_x = {base_x} is not finite"
+            )));
+        }
+        if bounds.duration[0].is_nan() || bounds.duration[0] <= 0.0 {
+            return Err(Error::BadProblem(
+                "the duration bound must be positive".into(),
+            ));
+        }
         let lo = vec![
             -bounds.bend_max[0],
             -bounds.bend_max[1],
@@ -101,15 +145,11 @@ impl DigProblem {
             bounds.bend_max[2],
             bounds.duration[1],
         ];
-        if bounds.duration[0].is_nan() || bounds.duration[0] <= 0.0 {
-            return Err(Error::BadProblem(
-                "the duration bound must be positive".into(),
-            ));
-        }
         Ok(DigProblem {
             cfg: *cfg,
-            task: query.task(),
-            terrain,
+            task: *task,
+            terrain: Box::new(terrain.clone()),
+            base_x,
             scratch: Box::default(),
             lo,
             hi,
@@ -141,7 +181,7 @@ impl DigProblem {
     pub fn report(&mut self, params: &DigParams) -> Result<DigReport, Error> {
         let ground = Ground {
             terrain: &self.terrain,
-            base_x: 0.0,
+            base_x: self.base_x,
         };
         Ok(infer::evaluate(
             &self.cfg,
@@ -164,7 +204,7 @@ impl DigProblem {
     pub fn trajectory(&mut self, params: &DigParams) -> Result<Vec<Sample>, Error> {
         let ground = Ground {
             terrain: &self.terrain,
-            base_x: 0.0,
+            base_x: self.base_x,
         };
         let mut out = Vec::with_capacity(self.cfg.time_samples);
         infer::evaluate_with(
@@ -189,10 +229,7 @@ impl Problem for DigProblem {
     }
 
     fn n_objectives(&self) -> usize {
-        match self.objective {
-            DigObjective::Weighted => 1,
-            DigObjective::Pareto => 3,
-        }
+        self.objective.count()
     }
 
     fn evaluate(&mut self, x: &[f64], f: &mut [f64]) -> f64 {
@@ -247,10 +284,19 @@ impl DigSolution {
     }
 }
 
+/// The objective `algorithm` optimises: (T, W_E, −V) for NSGA-II, the
+/// weighted one for PSO and GWO.
+pub fn objective_for(algorithm: &AnyAlgorithm) -> DigObjective {
+    match algorithm {
+        AnyAlgorithm::Nsga2(_) => DigObjective::Pareto,
+        _ => DigObjective::Weighted,
+    }
+}
+
 /// Optimises one query with `algorithm` (PSO/GWO on the weighted objective,
 /// NSGA-II on (T, W_E, −V), then the front member with the best weighted
 /// objective by Deb's rules; the best feasible point by T is also a
-/// candidate, so a feasible answer is never lost).
+/// candidate, so a feasible answer is never lost), on a flat surface at H.
 pub fn solve(
     cfg: &Config,
     query: &DigQuery,
@@ -259,13 +305,29 @@ pub fn solve(
     budget: Budget,
     rng: &mut OptRng,
 ) -> Result<DigSolution, Error> {
-    let objective = match algorithm {
-        AnyAlgorithm::Nsga2(_) => DigObjective::Pareto,
-        _ => DigObjective::Weighted,
-    };
-    let mut problem = DigProblem::new(cfg, query, bounds, objective)?;
+    let mut problem = DigProblem::new(cfg, query, bounds, objective_for(algorithm))?;
+    solve_problem(&mut problem, algorithm, budget, rng)
+}
+
+/// [`solve`] for a problem already built (e.g. with
+/// [`DigProblem::on_ground`]); its objective must be
+/// [`objective_for`]`(algorithm)`.
+pub fn solve_problem(
+    problem: &mut DigProblem,
+    algorithm: &AnyAlgorithm,
+    budget: Budget,
+    rng: &mut OptRng,
+) -> Result<DigSolution, Error> {
+    let objective = objective_for(algorithm);
+    if problem.objective != objective {
+        return Err(Error::BadProblem(format!(
+            "{} optimises the {objective:?} objective, the problem has {:?}",
+            algorithm.name(),
+            problem.objective
+        )));
+    }
     let runner = Runner::new(budget, 0);
-    let run: RunResult = algorithm.run(&runner, &mut problem, rng)?;
+    let run: RunResult = algorithm.run(&runner, problem, rng)?;
     let chosen: Individual = match objective {
         DigObjective::Weighted => run.best.clone(),
         DigObjective::Pareto => {

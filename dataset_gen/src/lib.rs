@@ -4,9 +4,10 @@
 //! solved offline (spec `excavator.md` §1, §6–7). This crate holds the three
 //! optimisers of the project (PSO, GWO, NSGA-II) behind one small problem
 //! interface, the standard test problems they are checked on, the
-//! single-dig problem built on `infer`'s exact model, the query sampler, a
-//! deterministic, sharded and resumable batch runner, and the MCAP dataset
-//! writer and reader that `train` and `eval` use.
+//! single-dig problem built on `infer`'s exact model (on a flat surface, or
+//! on any terrain for an optimiser in the planner's loop, [`predictor`]),
+//! the query sampler, a deterministic, sharded and resumable batch runner,
+//! and the MCAP dataset writer and reader that `train` and `eval` use.
 //!
 //! The split follows argmin and pagmo: a [`problem::Problem`] says what is
 //! optimised, an [`algorithms::Algorithm`] how, and [`runner::Runner`] owns
@@ -20,6 +21,7 @@ pub mod batch;
 pub mod dataset;
 pub mod dig_problem;
 pub mod error;
+pub mod predictor;
 pub mod problem;
 pub mod quality;
 pub mod rng;

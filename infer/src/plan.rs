@@ -7,6 +7,7 @@
 use crate::kinematics::LinkFrames;
 use crate::planner::{PlanError, PlannedDig, Planner};
 use crate::predictor::DigPredictor;
+use crate::terrain::Terrain;
 use crate::trajectory::Trajectory;
 use crate::trench::{DesignProfile, ProfileMetrics, TrenchTask};
 use serde::{Deserialize, Serialize};
@@ -69,6 +70,33 @@ impl Plan {
     }
 }
 
+impl DigRecord {
+    /// `dig` with its tooth-tip path and the surface it left (`terrain`,
+    /// as it is after the dig) over the window a picture of `design` shows.
+    /// For callers that step the planner themselves
+    /// ([`Planner::next_dig`]) and still want a [`Plan`].
+    pub fn new(
+        planner: &Planner,
+        dig: PlannedDig,
+        design: &DesignProfile,
+        terrain: &Terrain,
+    ) -> Self {
+        let (lo, hi) = (design.near_edge - 0.15, design.far_edge + 0.15);
+        let t = terrain;
+        let j0 = ((lo - t.x0()) / t.dx()).max(0.0) as usize;
+        let j1 = (((hi - t.x0()) / t.dx()) as usize).min(t.len() - 1);
+        DigRecord {
+            tip_path: tip_path(planner, &dig),
+            surface_after: Surface {
+                x0: t.x_at(j0),
+                dx: t.dx(),
+                heights: t.heights()[j0..=j1].to_vec(),
+            },
+            dig,
+        }
+    }
+}
+
 /// Samples of the tip path drawn per dig.
 const PATH_SAMPLES: usize = 97;
 
@@ -97,21 +125,9 @@ impl Planner {
         let clock = std::time::Instant::now();
         let mut state = self.start(task)?;
         let design = *state.design();
-        let (lo, hi) = (design.near_edge - 0.15, design.far_edge + 0.15);
         let mut digs = Vec::new();
         while let Some(dig) = self.next_dig(&mut state, predictor)? {
-            let t = state.terrain();
-            let j0 = ((lo - t.x0()) / t.dx()).max(0.0) as usize;
-            let j1 = (((hi - t.x0()) / t.dx()) as usize).min(t.len() - 1);
-            digs.push(DigRecord {
-                tip_path: tip_path(self, &dig),
-                surface_after: Surface {
-                    x0: t.x_at(j0),
-                    dx: t.dx(),
-                    heights: t.heights()[j0..=j1].to_vec(),
-                },
-                dig,
-            });
+            digs.push(DigRecord::new(self, dig, &design, state.terrain()));
         }
         Ok(Plan {
             task: *task,

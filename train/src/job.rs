@@ -33,7 +33,8 @@ fn write(path: &Path, text: &str) -> Result<(), TrainError> {
     std::fs::rename(&tmp, path).map_err(|e| TrainError::io(path, e))
 }
 
-fn machine() -> String {
+/// The machine a run is made on: core count and CPU model (from /proc/cpuinfo).
+pub fn machine() -> String {
     let cpu = std::fs::read_to_string("/proc/cpuinfo")
         .ok()
         .and_then(|c| {

@@ -115,6 +115,15 @@ impl AnyAlgorithm {
         }
     }
 
+    /// Error unless the settings suit a problem of this size.
+    pub fn validate(&self, dim: usize, n_objectives: usize) -> Result<(), Error> {
+        match self {
+            AnyAlgorithm::Pso(a) => a.validate(dim, n_objectives),
+            AnyAlgorithm::Gwo(a) => a.validate(dim, n_objectives),
+            AnyAlgorithm::Nsga2(a) => a.validate(dim, n_objectives),
+        }
+    }
+
     pub fn settings(&self) -> serde_json::Value {
         match self {
             AnyAlgorithm::Pso(a) => a.settings(),

@@ -1,0 +1,173 @@
+//! The optimiser baselines and one planned dig solved again by each.
+//!
+//! A baseline solves the single-dig problem of spec §6 for the dig the
+//! network planned: the same start and end joint angles, on the same
+//! surface (the trench as it was before that dig) with the machine at the
+//! same place. It does not know the trench's design profile, so it may
+//! cut below it where the planner's guard would not; the comparison is of
+//! the dig problem the network was trained to answer.
+
+use crate::planning::PlanStep;
+use dataset_gen::algorithms::{AnyAlgorithm, Gwo, Nsga2, Pso};
+use dataset_gen::dig_problem::{DigBounds, DigProblem, objective_for, solve_problem};
+use dataset_gen::rng::rng_from_seed;
+use dataset_gen::runner::Budget;
+use infer::{Config, DigReport};
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// An optimiser at a budget.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Baseline {
+    pub algorithm: AnyAlgorithm,
+    /// Iterations (PSO, GWO) or generations (NSGA-II).
+    pub iterations: usize,
+}
+
+impl Baseline {
+    /// The source's settings: PSO and GWO 50 × 100, NSGA-II 100 × 100
+    /// (then the best weighted member of the final front).
+    pub fn source() -> Vec<Baseline> {
+        vec![
+            Baseline::pso(),
+            Baseline {
+                algorithm: AnyAlgorithm::Gwo(Gwo::default()),
+                iterations: 100,
+            },
+            Baseline {
+                algorithm: AnyAlgorithm::Nsga2(Nsga2::default()),
+                iterations: 100,
+            },
+        ]
+    }
+
+    /// PSO at the source's settings, 50 particles × 100 iterations.
+    pub fn pso() -> Baseline {
+        Baseline {
+            algorithm: AnyAlgorithm::Pso(Pso::default()),
+            iterations: 100,
+        }
+    }
+
+    /// `name` (pso, gwo, nsga2) with a population and a budget.
+    pub fn new(
+        name: &str,
+        population: usize,
+        iterations: usize,
+    ) -> Result<Baseline, dataset_gen::Error> {
+        let algorithm = AnyAlgorithm::by_name(name, population)?;
+        algorithm.validate(4, objective_for(&algorithm).count())?;
+        Ok(Baseline {
+            algorithm,
+            iterations,
+        })
+    }
+
+    pub fn name(&self) -> &'static str {
+        self.algorithm.name()
+    }
+
+    /// "PSO 50 × 100".
+    pub fn label(&self) -> String {
+        format!(
+            "{} {} × {}",
+            method_label(self.name()),
+            self.algorithm.population(),
+            self.iterations
+        )
+    }
+}
+
+/// Display name of a method: network, PSO, GWO, NSGA-II.
+pub fn method_label(name: &str) -> &str {
+    match name {
+        "pso" => "PSO",
+        "gwo" => "GWO",
+        "nsga2" => "NSGA-II",
+        other => other,
+    }
+}
+
+/// One dig as a method made it: Y, the figures of spec §6 under the exact
+/// model on the real surface, feasibility and the time it took.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DigFigures {
+    /// Y = [a16, a26, a36, T].
+    pub y: [f64; 4],
+    /// T \[s\].
+    pub duration_s: f64,
+    /// V \[cm³\].
+    pub volume_cm3: f64,
+    /// W_E \[Wh\].
+    pub energy_wh: f64,
+    pub objective: f64,
+    pub feasible: bool,
+    /// The most violated constraint, or why the dig could not be evaluated.
+    pub note: Option<String>,
+    /// Planning time of this dig \[s\].
+    pub seconds: f64,
+}
+
+impl DigFigures {
+    pub fn from_report(y: [f64; 4], r: &DigReport, seconds: f64) -> Self {
+        DigFigures {
+            y,
+            duration_s: r.duration,
+            volume_cm3: r.volume * 1e6,
+            energy_wh: r.energy_wh(),
+            objective: r.objective,
+            feasible: r.feasible,
+            note: r.worst_violation().map(|c| c.to_string()),
+            seconds,
+        }
+    }
+
+    /// A dig that has no evaluation (the optimiser or the model failed).
+    pub fn failed(y: [f64; 4], why: String, seconds: f64) -> Self {
+        DigFigures {
+            y,
+            duration_s: f64::NAN,
+            volume_cm3: f64::NAN,
+            energy_wh: f64::NAN,
+            objective: f64::NAN,
+            feasible: false,
+            note: Some(why),
+            seconds,
+        }
+    }
+}
+
+/// Solves the planned dig of `step` again with `baseline` from the same
+/// start and end angles on the surface before it, seeded with `seed`.
+pub fn solve_again(cfg: &Config, step: &PlanStep, baseline: &Baseline, seed: u64) -> DigFigures {
+    let clock = Instant::now();
+    let dig = &step.dig;
+    let result = DigProblem::on_ground(
+        cfg,
+        &dig.query.task(),
+        &step.terrain_before,
+        dig.base_x,
+        &DigBounds::default(),
+        objective_for(&baseline.algorithm),
+    )
+    .and_then(|mut problem| {
+        solve_problem(
+            &mut problem,
+            &baseline.algorithm,
+            Budget::iterations(baseline.iterations),
+            &mut rng_from_seed(seed),
+        )
+    });
+    let seconds = clock.elapsed().as_secs_f64();
+    match result {
+        Ok(sol) => match &sol.report {
+            Some(r) => DigFigures::from_report(sol.y, r, seconds),
+            None => DigFigures::failed(
+                sol.y,
+                "the exact model could not evaluate the optimiser's answer".into(),
+                seconds,
+            ),
+        },
+        Err(e) => DigFigures::failed([f64::NAN; 4], e.to_string(), seconds),
+    }
+}

@@ -1,0 +1,258 @@
+//! `eval`: the learned planner against the optimiser baselines, the
+//! end-to-end pipeline, and the benchmark summary. See the crate docs.
+
+use clap::{Parser, Subcommand};
+use eval::baselines::Baseline;
+use eval::evaluation::{Coverage, EvalSettings, evaluate};
+use eval::networks::Networks;
+use eval::pipeline::{self, PipelineSettings};
+use eval::{EvalError, benchmarks, output, tables};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "eval",
+    version,
+    about = "Compare the learned trench planner with the optimisers (PSO, GWO, NSGA-II)"
+)]
+struct Cli {
+    /// Worker threads (default: all cores). Results other than timings do not depend on it.
+    #[arg(long, global = true)]
+    threads: Option<usize>,
+    /// No progress bars.
+    #[arg(long, global = true)]
+    no_progress: bool,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(clap::Args, Debug)]
+struct EvalArgs {
+    /// Seed of the random tasks and of every optimiser run.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Random tasks besides A–D.
+    #[arg(long)]
+    random_tasks: Option<usize>,
+    /// Whose digs are solved again by the optimisers.
+    #[arg(long, value_enum)]
+    dig_by_dig: Option<Coverage>,
+    /// Which tasks are also planned with PSO in the loop.
+    #[arg(long, value_enum)]
+    whole_task: Option<Coverage>,
+    /// Optimisers of the dig-by-dig comparison (pso, gwo, nsga2), at the source's settings.
+    #[arg(long, value_delimiter = ',')]
+    optimisers: Option<Vec<String>>,
+}
+
+impl EvalArgs {
+    fn apply(&self, mut s: EvalSettings) -> Result<EvalSettings, EvalError> {
+        s.seed = self.seed;
+        if let Some(n) = self.random_tasks {
+            s.random_tasks = n;
+        }
+        if let Some(c) = self.dig_by_dig {
+            s.dig_by_dig = c;
+        }
+        if let Some(c) = self.whole_task {
+            s.whole_task = c;
+        }
+        if let Some(names) = &self.optimisers {
+            s.baselines = names
+                .iter()
+                .map(|n| {
+                    Baseline::source()
+                        .into_iter()
+                        .find(|b| b.name() == n.trim())
+                        .ok_or_else(|| {
+                            EvalError::BadArgument(format!(
+                                "unknown optimiser `{n}` (expected pso, gwo or nsga2)"
+                            ))
+                        })
+                })
+                .collect::<Result<_, _>>()?;
+        }
+        Ok(s)
+    }
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Generate a small dataset, train both networks, plan tasks A–D and random
+    /// tasks with them and compare with the optimisers (about 10 min on 2 cores).
+    Pipeline {
+        /// Use the shipped networks in --networks instead of training (under a minute).
+        #[arg(long)]
+        quick: bool,
+        /// The shipped networks (for --quick).
+        #[arg(long, default_value = "artifacts")]
+        networks: PathBuf,
+        /// Working folder (dataset, networks, checkpoints).
+        #[arg(long, default_value = "runs/pipeline")]
+        out: PathBuf,
+        /// Report folder [default: artifacts/eval, or runs/eval-quick with --quick].
+        #[arg(long)]
+        report: Option<PathBuf>,
+        /// PSO-optimised digs per dig type in the dataset.
+        #[arg(long, default_value_t = 600)]
+        per_type: u64,
+        /// Training budget per dig type [s]; the two types train at the same time.
+        #[arg(long, default_value_t = 240.0)]
+        train_seconds: f64,
+        #[command(flatten)]
+        eval: EvalArgs,
+    },
+    /// Evaluate trained networks: dig-by-dig and whole-task comparison with the optimisers.
+    Compare {
+        /// Folder holding network_downward.json and network_backward.json.
+        #[arg(long, default_value = "artifacts")]
+        networks: PathBuf,
+        /// Report folder.
+        #[arg(long, default_value = "runs/eval")]
+        out: PathBuf,
+        /// The under-a-minute settings (PSO only dig by dig, whole tasks A–D only).
+        #[arg(long)]
+        quick: bool,
+        #[command(flatten)]
+        eval: EvalArgs,
+    },
+    /// Measure latency and accuracy figures into OUT/benchmarks.{json,md}.
+    BenchSummary {
+        #[arg(long, default_value = "artifacts")]
+        networks: PathBuf,
+        #[arg(long, default_value = "artifacts")]
+        out: PathBuf,
+        /// Times tasks A–D are planned with the network.
+        #[arg(long, default_value_t = 50)]
+        repeats: usize,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn command_line() -> String {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    format!("cargo run --release -p eval -- {}", args.join(" "))
+}
+
+fn run(cli: Cli) -> Result<(), EvalError> {
+    // Build the pool first: training would otherwise size it to one thread.
+    let threads = cli.threads.unwrap_or(0);
+    if cli.threads == Some(0) {
+        return Err(EvalError::BadArgument(
+            "--threads must be at least 1".into(),
+        ));
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build_global()
+        .map_err(|e| EvalError::BadArgument(format!("thread pool: {e}")))?;
+    let progress = !cli.no_progress;
+    match cli.command {
+        Command::Pipeline {
+            quick,
+            networks,
+            out,
+            report,
+            per_type,
+            train_seconds,
+            eval,
+        } => {
+            let mut s = if quick {
+                PipelineSettings::quick(out, networks)
+            } else {
+                PipelineSettings::full(out)
+            };
+            if per_type == 0 {
+                return Err(EvalError::BadArgument(
+                    "--per-type must be at least 1".into(),
+                ));
+            }
+            if !(train_seconds.is_finite() && train_seconds > 0.0) {
+                return Err(EvalError::BadArgument(
+                    "--train-seconds must be a positive number".into(),
+                ));
+            }
+            s.per_type = per_type;
+            s.train_seconds = train_seconds;
+            s.seed = eval.seed;
+            s.eval = eval.apply(s.eval)?;
+            let report_dir = report.unwrap_or_else(|| {
+                PathBuf::from(if quick {
+                    "runs/eval-quick"
+                } else {
+                    "artifacts/eval"
+                })
+            });
+            if quick {
+                eprintln!(
+                    "quick: the shipped networks in {}; every dig solved again by PSO only; GWO, NSGA-II and whole-task comparison on tasks A–D only",
+                    s.shipped
+                        .as_deref()
+                        .map_or(String::new(), |p| p.display().to_string())
+                );
+            }
+            let outcome = pipeline::run(&s, progress)?;
+            output::write_report(&report_dir, &outcome.report, &command_line())?;
+            eval::error::write_json(&report_dir.join("pipeline.json"), &outcome)?;
+            print!("{}", tables::console(&outcome.report));
+            let steps: Vec<String> = outcome
+                .steps
+                .iter()
+                .map(|(n, t)| format!("{n} {t:.0} s"))
+                .collect();
+            println!(
+                "\n{} ; report in {}",
+                steps.join(", "),
+                report_dir.display()
+            );
+        }
+        Command::Compare {
+            networks,
+            out,
+            quick,
+            eval,
+        } => {
+            let base = if quick {
+                EvalSettings::quick()
+            } else {
+                EvalSettings::default()
+            };
+            let settings = eval.apply(base)?;
+            let nets = Networks::load(&networks)?;
+            let report = evaluate(&infer::Config::default(), &nets, &settings, progress)?;
+            output::write_report(&out, &report, &command_line())?;
+            print!("{}", tables::console(&report));
+            println!(
+                "\nin {:.0} s; report in {}",
+                report.elapsed_s,
+                out.display()
+            );
+        }
+        Command::BenchSummary {
+            networks,
+            out,
+            repeats,
+        } => {
+            let nets = Networks::load(&networks)?;
+            let settings = benchmarks::BenchSettings {
+                plan_repeats: repeats,
+                ..Default::default()
+            };
+            let s = benchmarks::measure(&nets, &settings, &command_line())?;
+            benchmarks::write(&out, &s)?;
+            print!("{}", benchmarks::markdown(&s));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,108 @@
+//! The dig-by-dig comparison: every dig of the network's plans solved again
+//! by each optimiser baseline from the same start and end, on the same
+//! surface, with per-dig seeds so the numbers do not depend on the number
+//! of threads.
+
+use crate::baselines::{Baseline, DigFigures, solve_again};
+use crate::planning::PlanRun;
+use dataset_gen::rng::derive_seed;
+use infer::{Config, DigType, Outcome, Pose};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// One baseline's answer to a dig, and the network's objective relative to it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BaselineDig {
+    /// pso, gwo or nsga2.
+    pub method: String,
+    pub figures: DigFigures,
+    /// Network objective / this optimiser's (objectives are minimised:
+    /// 1.02 means the network's dig is 2 % worse). NaN when either is missing.
+    pub objective_ratio: f64,
+}
+
+/// One dig of a network plan against the baselines.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DigRow {
+    pub task: String,
+    /// 1-based.
+    pub dig: usize,
+    pub kind: DigType,
+    /// How the planner made the network's dig feasible.
+    pub outcome: Outcome,
+    /// Boom-foot x in the terrain frame \[m\].
+    pub base_x: f64,
+    /// Tooth-tip poses in the machine frame.
+    pub start: Pose,
+    pub end: Pose,
+    /// The dig as planned with the network (after validation and repair).
+    pub network: DigFigures,
+    pub baselines: Vec<BaselineDig>,
+}
+
+impl DigRow {
+    pub fn baseline(&self, method: &str) -> Option<&BaselineDig> {
+        self.baselines.iter().find(|b| b.method == method)
+    }
+}
+
+/// The seed of baseline `b` on dig `dig` (0-based) of the task named
+/// `task` under `seed`: the same whichever other tasks are compared.
+pub fn dig_seed(seed: u64, task: &str, dig: usize, b: usize) -> u64 {
+    derive_seed(derive_seed(seed, name_key(task)), (dig * 16 + b) as u64)
+}
+
+/// FNV-1a of a name: a stable number per task name.
+pub fn name_key(name: &str) -> u64 {
+    name.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+/// Solves every dig of `runs` (one per task, named) again with each
+/// baseline, in parallel over digs on the current rayon pool.
+pub fn compare_digs(
+    cfg: &Config,
+    runs: &[(&str, &PlanRun)],
+    baselines: &[Baseline],
+    seed: u64,
+    bar: &indicatif::ProgressBar,
+) -> Vec<DigRow> {
+    let jobs: Vec<(usize, usize)> = runs
+        .iter()
+        .enumerate()
+        .flat_map(|(t, (_, run))| (0..run.steps.len()).map(move |d| (t, d)))
+        .collect();
+    jobs.par_iter()
+        .map(|&(t, d)| {
+            let (name, run) = runs[t];
+            let step = &run.steps[d];
+            let dig = &step.dig;
+            let network = DigFigures::from_report(dig.params.to_array(), &dig.report, step.seconds);
+            let baselines = baselines
+                .iter()
+                .enumerate()
+                .map(|(b, baseline)| {
+                    let figures = solve_again(cfg, step, baseline, dig_seed(seed, name, d, b));
+                    BaselineDig {
+                        method: baseline.name().to_string(),
+                        objective_ratio: network.objective / figures.objective,
+                        figures,
+                    }
+                })
+                .collect();
+            bar.inc(1);
+            DigRow {
+                task: name.to_string(),
+                dig: d + 1,
+                kind: dig.kind,
+                outcome: dig.outcome,
+                base_x: dig.base_x,
+                start: dig.start,
+                end: dig.end,
+                network,
+                baselines,
+            }
+        })
+        .collect()
+}

@@ -1,0 +1,264 @@
+//! One evaluation run: plan the task set with the networks, solve every
+//! planned dig again with the optimiser baselines, plan whole tasks with
+//! PSO in the loop, and summarise it all against the goals.
+
+use crate::baselines::Baseline;
+use crate::digs::{DigRow, compare_digs};
+use crate::error::EvalError;
+use crate::networks::Networks;
+use crate::planning::{PlanRun, run_plan};
+use crate::progress;
+use crate::summary::{Summary, summarise};
+use crate::tasks::{NamedTask, RandomRanges, task_set};
+use crate::whole::{PlanSummary, WholeTaskRow, plan_with_optimiser};
+use infer::plan::Plan;
+use infer::{Config, Planner, PlannerSettings, TrenchTask};
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// Which tasks a comparison covers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum Coverage {
+    /// Tasks A–D and the random tasks.
+    All,
+    /// Tasks A–D only.
+    Reference,
+    /// None.
+    Skip,
+}
+
+impl Coverage {
+    pub fn covers(self, task: &NamedTask) -> bool {
+        match self {
+            Coverage::All => true,
+            Coverage::Reference => task.is_reference(),
+            Coverage::Skip => false,
+        }
+    }
+}
+
+/// What an evaluation runs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EvalSettings {
+    /// Seeds the random tasks and every optimiser run.
+    pub seed: u64,
+    /// Random tasks besides A–D.
+    pub random_tasks: usize,
+    pub ranges: RandomRanges,
+    /// Whose digs are solved again by the baselines.
+    pub dig_by_dig: Coverage,
+    /// The optimisers each dig is solved again with.
+    pub baselines: Vec<Baseline>,
+    /// Which tasks are also planned with an optimiser in the loop.
+    pub whole_task: Coverage,
+    pub in_loop: Baseline,
+}
+
+impl Default for EvalSettings {
+    /// The full comparison: A–D and 20 random tasks, every dig solved again
+    /// by PSO, GWO and NSGA-II at the source's settings, every task planned
+    /// with PSO in the loop.
+    fn default() -> Self {
+        EvalSettings {
+            seed: 1,
+            random_tasks: 20,
+            ranges: RandomRanges::default(),
+            dig_by_dig: Coverage::All,
+            baselines: Baseline::source(),
+            whole_task: Coverage::All,
+            in_loop: Baseline::pso(),
+        }
+    }
+}
+
+impl EvalSettings {
+    /// The under-a-minute form: the same 24 tasks planned with the network
+    /// and every dig solved again by PSO only; GWO, NSGA-II and the
+    /// whole-task comparison on tasks A–D only.
+    pub fn quick() -> Self {
+        EvalSettings {
+            dig_by_dig: Coverage::All,
+            baselines: vec![Baseline::pso()],
+            whole_task: Coverage::Reference,
+            ..EvalSettings::default()
+        }
+    }
+
+    /// What this run leaves out, for the report (empty for the full run).
+    pub fn limits(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let names: Vec<&str> = self.baselines.iter().map(Baseline::name).collect();
+        for b in Baseline::source() {
+            if !names.contains(&b.name()) {
+                out.push(format!("no {} dig-by-dig", b.label()));
+            }
+        }
+        match self.dig_by_dig {
+            Coverage::All => {}
+            Coverage::Reference => out.push("dig-by-dig on tasks A–D only".into()),
+            Coverage::Skip => out.push("no dig-by-dig comparison".into()),
+        }
+        match self.whole_task {
+            Coverage::All => {}
+            Coverage::Reference => out.push("whole-task comparison on tasks A–D only".into()),
+            Coverage::Skip => out.push("no whole-task comparison".into()),
+        }
+        if self
+            .baselines
+            .iter()
+            .any(|b| !Baseline::source().contains(b))
+        {
+            out.push("optimiser budgets differ from the source's".into());
+        }
+        out
+    }
+}
+
+/// One task's entry in the report.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TaskReport {
+    pub name: String,
+    pub description: String,
+    pub task: TrenchTask,
+    /// The network's plan.
+    pub network: PlanSummary,
+    /// Its digs were solved again by the baselines.
+    pub dig_by_dig: bool,
+}
+
+/// Everything one evaluation measured.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct EvalReport {
+    pub machine: String,
+    /// 1-minute load average at the start and at the end (other jobs on
+    /// the machine slow every timing down).
+    pub load_average: [f64; 2],
+    /// Where the networks came from.
+    pub networks: String,
+    pub settings: EvalSettings,
+    /// What this run leaves out of the full comparison.
+    pub limits: Vec<String>,
+    pub tasks: Vec<TaskReport>,
+    pub digs: Vec<DigRow>,
+    pub whole: Vec<WholeTaskRow>,
+    pub summary: Summary,
+    pub elapsed_s: f64,
+    /// The plans, per task: with the network, and with the optimiser in
+    /// the loop when planned (written as separate files).
+    #[serde(skip)]
+    pub plans: Vec<(String, Plan, Option<Plan>)>,
+}
+
+/// The 1-minute load average (0 where /proc/loadavg is not readable).
+pub fn load_average() -> f64 {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|s| s.split_whitespace().next().and_then(|v| v.parse().ok()))
+        .unwrap_or(0.0)
+}
+
+/// Runs the evaluation of `networks` with `settings` on the current rayon pool.
+pub fn evaluate(
+    cfg: &Config,
+    networks: &Networks,
+    settings: &EvalSettings,
+    show_progress: bool,
+) -> Result<EvalReport, EvalError> {
+    let clock = Instant::now();
+    let load_start = load_average();
+    let planner = Planner::new(cfg, &PlannerSettings::default())?;
+    let tasks = task_set(
+        &planner,
+        settings.random_tasks,
+        settings.seed,
+        &settings.ranges,
+    )?;
+
+    // The network plans, one task after the other so nothing else competes
+    // for the core; a first untimed pass warms the caches.
+    let mut pair = networks.pair()?;
+    for t in &tasks {
+        run_plan(&planner, &t.task, &mut pair);
+    }
+    let runs: Vec<PlanRun> = tasks
+        .iter()
+        .map(|t| run_plan(&planner, &t.task, &mut pair))
+        .collect();
+
+    let selected: Vec<(&str, &PlanRun)> = tasks
+        .iter()
+        .zip(&runs)
+        .filter(|(t, _)| settings.dig_by_dig.covers(t))
+        .map(|(t, r)| (t.name.as_str(), r))
+        .collect();
+    let n_digs: usize = selected.iter().map(|(_, r)| r.steps.len()).sum();
+    let bar = progress::bar(n_digs as u64, "digs solved again", show_progress);
+    let digs = compare_digs(cfg, &selected, &settings.baselines, settings.seed, &bar);
+    bar.finish_and_clear();
+
+    let in_loop: Vec<NamedTask> = tasks
+        .iter()
+        .filter(|t| settings.whole_task.covers(t))
+        .cloned()
+        .collect();
+    let bar = progress::bar(
+        in_loop.len() as u64,
+        "tasks with PSO in loop",
+        show_progress,
+    );
+    let optimiser_runs = plan_with_optimiser(
+        cfg,
+        &planner,
+        &in_loop,
+        &settings.in_loop,
+        settings.seed,
+        &bar,
+    )?;
+    bar.finish_and_clear();
+
+    let mut whole = Vec::new();
+    let mut plans = Vec::new();
+    let mut reports = Vec::new();
+    for (t, run) in tasks.iter().zip(&runs) {
+        let network = PlanSummary::of(run);
+        let optimiser = in_loop
+            .iter()
+            .position(|x| x.name == t.name)
+            .map(|i| &optimiser_runs[i]);
+        if let Some((o, calls)) = optimiser {
+            whole.push(WholeTaskRow {
+                task: t.name.clone(),
+                network: network.clone(),
+                optimiser: PlanSummary::of(o),
+                optimiser_calls: *calls,
+            });
+        }
+        plans.push((
+            t.name.clone(),
+            run.plan.clone(),
+            optimiser.map(|(o, _)| o.plan.clone()),
+        ));
+        reports.push(TaskReport {
+            name: t.name.clone(),
+            description: t.describe(),
+            task: t.task,
+            network,
+            dig_by_dig: settings.dig_by_dig.covers(t),
+        });
+    }
+    let summary = summarise(&reports, &runs, &digs, &whole);
+    Ok(EvalReport {
+        machine: train::job::machine(),
+        load_average: [load_start, load_average()],
+        networks: networks.dir.display().to_string(),
+        settings: settings.clone(),
+        limits: settings.limits(),
+        tasks: reports,
+        digs,
+        whole,
+        summary,
+        elapsed_s: clock.elapsed().as_secs_f64(),
+        plans,
+    })
+}

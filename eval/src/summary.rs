@@ -1,0 +1,192 @@
+//! The evaluation in a few numbers, and the issue's goals checked against
+//! them: the network's mean dig objective within 2 % of PSO's, no
+//! infeasible dig returned, planning per dig at least 1,000 × faster than
+//! PSO in the same run, PSO at its throughput goal.
+
+use crate::digs::DigRow;
+use crate::evaluation::TaskReport;
+use crate::planning::{PlanFailure, PlanRun};
+use crate::whole::WholeTaskRow;
+use dataset_gen::stats::Distribution;
+use serde::{Deserialize, Serialize};
+
+/// One optimiser against the network over the digs it was run on.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BaselineSummary {
+    pub method: String,
+    /// Digs solved again.
+    pub digs: usize,
+    /// Of those, the optimiser's answer is feasible.
+    pub feasible: usize,
+    /// Mean objective over the digs where the optimiser's answer is
+    /// feasible, the optimiser's and the network's.
+    pub mean_objective: f64,
+    pub network_mean_objective: f64,
+    /// network mean / optimiser mean (1.02: the network is 2 % worse).
+    pub objective_ratio: f64,
+    /// Per-dig network / optimiser objective over the same digs.
+    pub dig_ratio: Distribution,
+    /// Planning time per dig \[s\].
+    pub dig_seconds: Distribution,
+}
+
+/// A goal of the issue and whether this run meets it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Goal {
+    pub what: String,
+    pub target: String,
+    pub measured: String,
+    pub met: bool,
+}
+
+/// The whole run in numbers.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    pub tasks: usize,
+    /// Tasks the network planner finished.
+    pub tasks_complete: usize,
+    /// The others: task name and where and why it stopped.
+    pub failures: Vec<(String, PlanFailure)>,
+    /// Digs in the network plans.
+    pub network_digs: usize,
+    /// Of those, breaking a constraint (should be 0).
+    pub network_infeasible: usize,
+    pub predicted: usize,
+    pub rescaled: usize,
+    pub refined: usize,
+    /// Network planning time per dig and per task \[s\].
+    pub network_dig_seconds: Distribution,
+    pub network_task_seconds: Distribution,
+    pub baselines: Vec<BaselineSummary>,
+    /// Median PSO time per dig / median network time per dig.
+    pub speedup_vs_pso: f64,
+    /// Whole-task comparison: tasks each planner finished.
+    pub whole_tasks: usize,
+    pub whole_network_complete: usize,
+    pub whole_optimiser_complete: usize,
+    pub goals: Vec<Goal>,
+}
+
+fn baseline_summary(method: &str, digs: &[DigRow]) -> BaselineSummary {
+    let of: Vec<(&DigRow, &crate::baselines::DigFigures)> = digs
+        .iter()
+        .filter_map(|r| r.baseline(method).map(|b| (r, &b.figures)))
+        .collect();
+    let both: Vec<_> = of.iter().filter(|(_, f)| f.feasible).collect();
+    let mean = |v: &mut dyn Iterator<Item = f64>| {
+        let (s, n) = v.fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
+        if n == 0 { f64::NAN } else { s / n as f64 }
+    };
+    let opt = mean(&mut both.iter().map(|(_, f)| f.objective));
+    let net = mean(&mut both.iter().map(|(r, _)| r.network.objective));
+    let ratios: Vec<f64> = both
+        .iter()
+        .map(|(r, f)| r.network.objective / f.objective)
+        .collect();
+    let secs: Vec<f64> = of.iter().map(|(_, f)| f.seconds).collect();
+    BaselineSummary {
+        method: method.to_string(),
+        digs: of.len(),
+        feasible: both.len(),
+        mean_objective: opt,
+        network_mean_objective: net,
+        objective_ratio: net / opt,
+        dig_ratio: Distribution::of(&ratios),
+        dig_seconds: Distribution::of(&secs),
+    }
+}
+
+/// Dig-by-dig, whole-task and per-task figures together.
+pub fn summarise(
+    tasks: &[TaskReport],
+    runs: &[PlanRun],
+    digs: &[DigRow],
+    whole: &[WholeTaskRow],
+) -> Summary {
+    let planned: Vec<_> = runs.iter().flat_map(|r| &r.steps).collect();
+    let dig_secs: Vec<f64> = planned.iter().map(|s| s.seconds).collect();
+    let task_secs: Vec<f64> = runs.iter().map(|r| r.plan.planning_seconds).collect();
+    let mut methods: Vec<&str> = Vec::new();
+    for r in digs {
+        for b in &r.baselines {
+            if !methods.contains(&b.method.as_str()) {
+                methods.push(&b.method);
+            }
+        }
+    }
+    let baselines: Vec<BaselineSummary> =
+        methods.iter().map(|m| baseline_summary(m, digs)).collect();
+    let network_dig_seconds = Distribution::of(&dig_secs);
+    let pso = baselines.iter().find(|b| b.method == "pso");
+    let speedup = pso.map_or(f64::NAN, |p| {
+        p.dig_seconds.median / network_dig_seconds.median
+    });
+    let network_infeasible = tasks.iter().map(|t| t.network.infeasible).sum();
+    let mut goals = Vec::new();
+    if let Some(p) = pso {
+        goals.push(Goal {
+            what: "network mean dig objective relative to PSO's (digs where PSO is feasible)"
+                .into(),
+            target: "≤ 1.02".into(),
+            measured: format!(
+                "{:.4} ({:.4} vs {:.4} over {} digs)",
+                p.objective_ratio, p.network_mean_objective, p.mean_objective, p.feasible
+            ),
+            met: p.objective_ratio <= 1.02,
+        });
+    }
+    goals.push(Goal {
+        what: "infeasible digs returned by the network planner".into(),
+        target: "0".into(),
+        measured: format!("{network_infeasible} of {}", planned.len()),
+        met: network_infeasible == 0,
+    });
+    if let Some(p) = pso {
+        goals.push(Goal {
+            what: "planning time per dig, PSO / network (medians, same run)".into(),
+            target: "≥ 1,000 ×".into(),
+            measured: format!(
+                "{:.0} × ({:.1} ms vs {:.1} µs)",
+                speedup,
+                p.dig_seconds.median * 1e3,
+                network_dig_seconds.median * 1e6
+            ),
+            met: speedup >= 1000.0,
+        });
+        goals.push(Goal {
+            what: "PSO 50 × 100 time per dig, one core (dataset_gen goal ≥ 20 /s on 2 cores; source 69 s)"
+                .into(),
+            target: "≤ 0.1 s".into(),
+            measured: format!("{:.3} s median", p.dig_seconds.median),
+            met: p.dig_seconds.median <= 0.1,
+        });
+    }
+    let complete = runs.iter().filter(|r| r.is_complete()).count();
+    goals.push(Goal {
+        what: "tasks the network planner finishes".into(),
+        target: format!("{} of {}", runs.len(), runs.len()),
+        measured: format!("{complete} of {}", runs.len()),
+        met: complete == runs.len(),
+    });
+    Summary {
+        tasks: tasks.len(),
+        tasks_complete: complete,
+        failures: tasks
+            .iter()
+            .filter_map(|t| t.network.failure.clone().map(|f| (t.name.clone(), f)))
+            .collect(),
+        network_digs: planned.len(),
+        network_infeasible,
+        predicted: tasks.iter().map(|t| t.network.predicted).sum(),
+        rescaled: tasks.iter().map(|t| t.network.rescaled).sum(),
+        refined: tasks.iter().map(|t| t.network.refined).sum(),
+        network_dig_seconds,
+        network_task_seconds: Distribution::of(&task_secs),
+        baselines,
+        speedup_vs_pso: speedup,
+        whole_tasks: whole.len(),
+        whole_network_complete: whole.iter().filter(|w| w.network.complete).count(),
+        whole_optimiser_complete: whole.iter().filter(|w| w.optimiser.complete).count(),
+        goals,
+    }
+}

@@ -1,0 +1,536 @@
+//! The report as Markdown and CSV: the goals, a table like the source's
+//! Table 4 (per-task averages of t, V and W_E, PSO | network), per-method
+//! and per-task figures, every dig, and the whole-task comparison.
+
+use crate::baselines::method_label;
+use crate::digs::DigRow;
+use crate::evaluation::EvalReport;
+use std::fmt::Write as _;
+
+/// Means of a task's digs for the network and PSO over the digs where
+/// PSO's answer is feasible: (digs, [t, V 10³ cm³, W_E] PSO, network).
+pub fn table4_row(digs: &[&DigRow]) -> (usize, [f64; 3], [f64; 3]) {
+    let both: Vec<_> = digs
+        .iter()
+        .filter_map(|r| {
+            r.baseline("pso")
+                .filter(|b| b.figures.feasible)
+                .map(|b| (r, b))
+        })
+        .collect();
+    let n = both.len();
+    let mut pso = [0.0; 3];
+    let mut net = [0.0; 3];
+    for (r, b) in &both {
+        let f = &b.figures;
+        pso[0] += f.duration_s;
+        pso[1] += f.volume_cm3 / 1e3;
+        pso[2] += f.energy_wh;
+        net[0] += r.network.duration_s;
+        net[1] += r.network.volume_cm3 / 1e3;
+        net[2] += r.network.energy_wh;
+    }
+    let k = if n == 0 { f64::NAN } else { 1.0 / n as f64 };
+    (n, pso.map(|v| v * k), net.map(|v| v * k))
+}
+
+/// Rows of Table 4: one per task with compared digs, then all tasks.
+pub fn table4(report: &EvalReport) -> Vec<(String, usize, [f64; 3], [f64; 3])> {
+    let mut rows = Vec::new();
+    for t in report.tasks.iter().filter(|t| t.dig_by_dig) {
+        let digs: Vec<&DigRow> = report.digs.iter().filter(|r| r.task == t.name).collect();
+        let (n, p, w) = table4_row(&digs);
+        rows.push((t.name.clone(), n, p, w));
+    }
+    let all: Vec<&DigRow> = report.digs.iter().collect();
+    let (n, p, w) = table4_row(&all);
+    rows.push(("all".into(), n, p, w));
+    rows
+}
+
+/// Table 4 in Markdown.
+pub fn table4_markdown(report: &EvalReport) -> String {
+    let mut out = String::from(
+        "| task | digs | t (s) PSO \\| network | V (10³ cm³) PSO \\| network | W_E (Wh) PSO \\| network |\n|---|---|---|---|---|\n",
+    );
+    for (name, n, p, w) in table4(report) {
+        let _ = writeln!(
+            out,
+            "| {name} | {n} | {:.2} \\| {:.2} | {:.2} \\| {:.2} | {:.4} \\| {:.4} |",
+            p[0], w[0], p[1], w[1], p[2], w[2]
+        );
+    }
+    out
+}
+
+fn csv_line(fields: &[String]) -> String {
+    let quoted: Vec<String> = fields
+        .iter()
+        .map(|f| {
+            if f.contains([',', '"', '\n']) {
+                format!("\"{}\"", f.replace('"', "\"\""))
+            } else {
+                f.clone()
+            }
+        })
+        .collect();
+    quoted.join(",") + "\n"
+}
+
+fn csv(header: &[&str], rows: impl IntoIterator<Item = Vec<String>>) -> String {
+    let mut out = csv_line(&header.iter().map(|s| s.to_string()).collect::<Vec<_>>());
+    for r in rows {
+        out.push_str(&csv_line(&r));
+    }
+    out
+}
+
+pub fn table4_csv(report: &EvalReport) -> String {
+    csv(
+        &[
+            "task",
+            "digs",
+            "t_pso_s",
+            "t_network_s",
+            "v_pso_1e3cm3",
+            "v_network_1e3cm3",
+            "we_pso_wh",
+            "we_network_wh",
+        ],
+        table4(report).into_iter().map(|(name, n, p, w)| {
+            vec![
+                name,
+                n.to_string(),
+                format!("{:.4}", p[0]),
+                format!("{:.4}", w[0]),
+                format!("{:.4}", p[1]),
+                format!("{:.4}", w[1]),
+                format!("{:.5}", p[2]),
+                format!("{:.5}", w[2]),
+            ]
+        }),
+    )
+}
+
+/// The methods of a report: network, then the baselines in order.
+fn methods(report: &EvalReport) -> Vec<String> {
+    let mut m = vec!["network".to_string()];
+    m.extend(report.summary.baselines.iter().map(|b| b.method.clone()));
+    m
+}
+
+/// Every dig, one line each, the figures of every method side by side.
+pub fn digs_csv(report: &EvalReport) -> String {
+    let methods = methods(report);
+    let mut header: Vec<String> = ["task", "dig", "type", "outcome", "base_x_m"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    for m in &methods {
+        for f in [
+            "a16",
+            "a26",
+            "a36",
+            "t_s",
+            "v_cm3",
+            "we_wh",
+            "objective",
+            "feasible",
+            "seconds",
+        ] {
+            header.push(format!("{m}_{f}"));
+        }
+        if m != "network" {
+            header.push(format!("network_over_{m}"));
+        }
+    }
+    let header: Vec<&str> = header.iter().map(String::as_str).collect();
+    let rows = report.digs.iter().map(|r| {
+        let mut v = vec![
+            r.task.clone(),
+            r.dig.to_string(),
+            r.kind.name().to_string(),
+            format!("{:?}", r.outcome).to_lowercase(),
+            format!("{:.4}", r.base_x),
+        ];
+        for m in &methods {
+            let (f, ratio) = if m == "network" {
+                (Some(&r.network), None)
+            } else {
+                let b = r.baseline(m);
+                (b.map(|b| &b.figures), b.map(|b| b.objective_ratio))
+            };
+            match f {
+                Some(f) => {
+                    v.extend(f.y.iter().map(|y| format!("{y:.6e}")));
+                    v.push(format!("{:.4}", f.duration_s));
+                    v.push(format!("{:.1}", f.volume_cm3));
+                    v.push(format!("{:.5}", f.energy_wh));
+                    v.push(format!("{:.5}", f.objective));
+                    v.push(f.feasible.to_string());
+                    v.push(format!("{:.6e}", f.seconds));
+                }
+                None => v.extend(std::iter::repeat_n(String::new(), 9)),
+            }
+            if m != "network" {
+                v.push(ratio.map_or(String::new(), |x| format!("{x:.5}")));
+            }
+        }
+        v
+    });
+    csv(&header, rows)
+}
+
+/// Per task: the network plan and the mean objective of each method over
+/// the task's compared digs.
+pub fn tasks_csv(report: &EvalReport) -> String {
+    let methods = methods(report);
+    let mut header: Vec<String> = [
+        "task",
+        "length_m",
+        "depth_m",
+        "slope_far_deg",
+        "slope_near_deg",
+        "far_edge_m",
+        "digs",
+        "complete",
+        "failure",
+        "predicted",
+        "rescaled",
+        "refined",
+        "under_dug",
+        "over_dug",
+        "max_over_depth_mm",
+        "plan_seconds",
+        "digs_compared",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    header.extend(methods.iter().map(|m| format!("{m}_mean_objective")));
+    let header: Vec<&str> = header.iter().map(String::as_str).collect();
+    let rows = report.tasks.iter().map(|t| {
+        let n = &t.network;
+        let digs: Vec<&DigRow> = report.digs.iter().filter(|r| r.task == t.name).collect();
+        let mut v = vec![
+            t.name.clone(),
+            format!("{:.4}", t.task.length),
+            format!("{:.4}", t.task.depth),
+            format!("{:.2}", t.task.slope_far.to_degrees()),
+            format!("{:.2}", t.task.slope_near.to_degrees()),
+            format!("{:.4}", t.task.far_edge),
+            n.digs.to_string(),
+            n.complete.to_string(),
+            n.failure
+                .as_ref()
+                .map_or(String::new(), |f| f.message.clone()),
+            n.predicted.to_string(),
+            n.rescaled.to_string(),
+            n.refined.to_string(),
+            format!("{:.4}", n.under_dug),
+            format!("{:.4}", n.over_dug),
+            format!("{:.2}", n.max_over_depth_mm),
+            format!("{:.6}", n.planning_seconds),
+            digs.len().to_string(),
+        ];
+        for m in &methods {
+            v.push(format!("{:.5}", mean_objective(&digs, m)));
+        }
+        v
+    });
+    csv(&header, rows)
+}
+
+/// Mean objective of `method` over `digs` (NaN if none).
+fn mean_objective(digs: &[&DigRow], method: &str) -> f64 {
+    let vals: Vec<f64> = digs
+        .iter()
+        .filter_map(|r| {
+            if method == "network" {
+                Some(r.network.objective)
+            } else {
+                r.baseline(method).map(|b| b.figures.objective)
+            }
+        })
+        .filter(|v| v.is_finite())
+        .collect();
+    if vals.is_empty() {
+        f64::NAN
+    } else {
+        vals.iter().sum::<f64>() / vals.len() as f64
+    }
+}
+
+pub fn whole_csv(report: &EvalReport) -> String {
+    let header = [
+        "task",
+        "planner",
+        "digs",
+        "complete",
+        "failure",
+        "total_t_s",
+        "total_we_wh",
+        "total_v_cm3",
+        "mean_objective",
+        "under_dug",
+        "over_dug",
+        "max_over_depth_mm",
+        "plan_seconds",
+        "predicted",
+        "rescaled",
+        "refined",
+    ];
+    let rows = report.whole.iter().flat_map(|w| {
+        [("network", &w.network), ("pso_in_loop", &w.optimiser)].map(|(who, s)| {
+            vec![
+                w.task.clone(),
+                who.to_string(),
+                s.digs.to_string(),
+                s.complete.to_string(),
+                s.failure
+                    .as_ref()
+                    .map_or(String::new(), |f| f.message.clone()),
+                format!("{:.4}", s.total_time_s),
+                format!("{:.5}", s.total_energy_wh),
+                format!("{:.1}", s.total_volume_cm3),
+                format!("{:.5}", s.mean_objective),
+                format!("{:.4}", s.under_dug),
+                format!("{:.4}", s.over_dug),
+                format!("{:.2}", s.max_over_depth_mm),
+                format!("{:.6}", s.planning_seconds),
+                s.predicted.to_string(),
+                s.rescaled.to_string(),
+                s.refined.to_string(),
+            ]
+        })
+    });
+    csv(&header, rows)
+}
+
+fn seconds(s: f64) -> String {
+    if !s.is_finite() {
+        "–".into()
+    } else if s < 1e-3 {
+        format!("{:.1} µs", s * 1e6)
+    } else if s < 1.0 {
+        format!("{:.1} ms", s * 1e3)
+    } else {
+        format!("{s:.2} s")
+    }
+}
+
+fn pct(x: f64) -> String {
+    format!("{:.1} %", x * 100.0)
+}
+
+/// The goals table.
+pub fn goals_markdown(report: &EvalReport) -> String {
+    let mut out = String::from("| goal | target | measured | met |\n|---|---|---|---|\n");
+    for g in &report.summary.goals {
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {} |",
+            g.what,
+            g.target,
+            g.measured,
+            if g.met { "yes" } else { "**no**" }
+        );
+    }
+    out
+}
+
+/// The full Markdown report.
+pub fn markdown(report: &EvalReport, command: &str) -> String {
+    let s = &report.summary;
+    let mut out = String::new();
+    let _ = writeln!(out, "# Learned planner against the optimiser baselines\n");
+    let _ = writeln!(
+        out,
+        "Made by `{command}` in {:.0} s on {} (1-minute load average {:.1} at the start, {:.1} at the end). Networks: `{}`. Seed {}.\n",
+        report.elapsed_s,
+        report.machine,
+        report.load_average[0],
+        report.load_average[1],
+        report.networks,
+        report.settings.seed
+    );
+    if !report.limits.is_empty() {
+        let _ = writeln!(out, "**Reduced run:** {}.\n", report.limits.join("; "));
+    }
+    let _ = writeln!(
+        out,
+        "{} tasks (A–D and {} random), {} planned to the end by the network planner; {} digs ({} used as predicted, {} rescaled, {} refined).\n",
+        s.tasks,
+        report.settings.random_tasks,
+        s.tasks_complete,
+        s.network_digs,
+        s.predicted,
+        s.rescaled,
+        s.refined
+    );
+    let _ = writeln!(out, "## Goals\n\n{}", goals_markdown(report));
+    let _ = writeln!(
+        out,
+        "## Per-task averages (like the source's Table 4)\n\nEach dig of the network's plan solved again by PSO 50 × 100 from the same start and end on the same surface; means over the digs where PSO's answer is feasible.\n\n{}",
+        table4_markdown(report)
+    );
+    let _ = writeln!(
+        out,
+        "## Methods, dig by dig\n\n| method | digs | feasible | mean objective | network's on the same digs | network / method | per-dig ratio median (p05–p95) | time per dig median (p95) |\n|---|---|---|---|---|---|---|---|"
+    );
+    let _ = writeln!(
+        out,
+        "| network | {} | {} | – | – | – | – | {} ({}) |",
+        s.network_digs,
+        s.network_digs - s.network_infeasible,
+        seconds(s.network_dig_seconds.median),
+        seconds(s.network_dig_seconds.p95)
+    );
+    for b in &s.baselines {
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.3} ({:.3}–{:.3}) | {} ({}) |",
+            method_label(&b.method),
+            b.digs,
+            b.feasible,
+            b.mean_objective,
+            b.network_mean_objective,
+            b.objective_ratio,
+            b.dig_ratio.median,
+            b.dig_ratio.p05,
+            b.dig_ratio.p95,
+            seconds(b.dig_seconds.median),
+            seconds(b.dig_seconds.p95)
+        );
+    }
+    let _ = writeln!(
+        out,
+        "\nNetwork planning time per task: median {}, max {}.\n",
+        seconds(s.network_task_seconds.median),
+        seconds(s.network_task_seconds.max)
+    );
+    let methods = methods(report);
+    let _ = write!(
+        out,
+        "## Tasks\n\n| task | L, D, β1, β2, far edge | digs | predicted / rescaled / refined | under / over-dug | plan time |"
+    );
+    for m in &methods {
+        let _ = write!(out, " {} objective |", method_label(m));
+    }
+    let _ = write!(out, "\n|---|---|---|---|---|---|");
+    for _ in &methods {
+        out.push_str("---|");
+    }
+    out.push('\n');
+    for t in &report.tasks {
+        let n = &t.network;
+        let digs: Vec<&DigRow> = report.digs.iter().filter(|r| r.task == t.name).collect();
+        let count = match &n.failure {
+            None => n.digs.to_string(),
+            Some(f) => format!("{} (stopped at dig {})", n.digs, f.dig),
+        };
+        let _ = write!(
+            out,
+            "| {} | {} | {} | {} / {} / {} | {} / {} | {} |",
+            t.name,
+            t.description,
+            count,
+            n.predicted,
+            n.rescaled,
+            n.refined,
+            pct(n.under_dug),
+            pct(n.over_dug),
+            seconds(n.planning_seconds)
+        );
+        for m in &methods {
+            let v = mean_objective(&digs, m);
+            let _ = write!(
+                out,
+                " {} |",
+                if v.is_finite() {
+                    format!("{v:.4}")
+                } else {
+                    "–".into()
+                }
+            );
+        }
+        out.push('\n');
+    }
+    if !s.failures.is_empty() {
+        let _ = writeln!(out, "\nWhere the network planner stopped:\n");
+        for (name, f) in &s.failures {
+            let _ = writeln!(out, "- {name}: {}", f.message);
+        }
+    }
+    if !report.whole.is_empty() {
+        let _ = writeln!(
+            out,
+            "\n## Whole tasks: network | PSO in the loop\n\nThe same planner with PSO {} × {} solving each dig on the real surface instead of the network.\n\n| task | digs | total T (s) | total W_E (Wh) | under-dug | over-dug | deepest over-dig (mm) | planning time |\n|---|---|---|---|---|---|---|---|",
+            report.settings.in_loop.algorithm.population(),
+            report.settings.in_loop.iterations
+        );
+        for w in &report.whole {
+            let (n, o) = (&w.network, &w.optimiser);
+            let digs = |p: &crate::whole::PlanSummary| match &p.failure {
+                None => p.digs.to_string(),
+                Some(f) => format!("{} (stopped at {})", p.digs, f.dig),
+            };
+            let _ = writeln!(
+                out,
+                "| {} | {} \\| {} | {:.2} \\| {:.2} | {:.4} \\| {:.4} | {} \\| {} | {} \\| {} | {:.1} \\| {:.1} | {} \\| {} |",
+                w.task,
+                digs(n),
+                digs(o),
+                n.total_time_s,
+                o.total_time_s,
+                n.total_energy_wh,
+                o.total_energy_wh,
+                pct(n.under_dug),
+                pct(o.under_dug),
+                pct(n.over_dug),
+                pct(o.over_dug),
+                n.max_over_depth_mm,
+                o.max_over_depth_mm,
+                seconds(n.planning_seconds),
+                seconds(o.planning_seconds)
+            );
+        }
+        let stops: Vec<String> = report
+            .whole
+            .iter()
+            .filter_map(|w| {
+                w.optimiser
+                    .failure
+                    .as_ref()
+                    .map(|f| format!("- {}: {}", w.task, f.message))
+            })
+            .collect();
+        if !stops.is_empty() {
+            let _ = writeln!(
+                out,
+                "\nWhere the planner with PSO in the loop stopped:\n\n{}",
+                stops.join("\n")
+            );
+        }
+    }
+    let _ = writeln!(
+        out,
+        "\n## Files\n\n`report.json` (everything), `digs.csv` (every dig, every method), `tasks.csv`, `table4.csv`, `whole.csv`, `objective_gap.svg` (per-dig objective of the network relative to each optimiser), `dig_time.svg` (planning time per dig, log scale), `plans/<task>.svg|json` (the network's plans) and `plans/<task>_pso.svg|json` (PSO in the loop)."
+    );
+    out
+}
+
+/// What the command prints: the goals and Table 4.
+pub fn console(report: &EvalReport) -> String {
+    let mut out = String::new();
+    if !report.limits.is_empty() {
+        let _ = writeln!(out, "Reduced run: {}.\n", report.limits.join("; "));
+    }
+    let _ = writeln!(
+        out,
+        "Per-task averages, PSO | network (digs where PSO is feasible):\n\n{}\n{}",
+        table4_markdown(report),
+        goals_markdown(report)
+    );
+    out
+}

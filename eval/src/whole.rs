@@ -1,0 +1,111 @@
+//! The whole-task comparison: the same planner with an optimiser in the
+//! loop (PSO at the source's settings solving each dig on the real
+//! surface) instead of the network, compared by number of digs, total time
+//! and energy, profile error and planning time.
+
+use crate::baselines::Baseline;
+use crate::digs::name_key;
+use crate::planning::{PlanFailure, PlanRun, run_plan};
+use crate::tasks::NamedTask;
+use dataset_gen::predictor::OptimiserPredictor;
+use dataset_gen::rng::derive_seed;
+use infer::{Config, Outcome, Planner};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// A task's plan in a few numbers.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PlanSummary {
+    pub digs: usize,
+    pub complete: bool,
+    pub failure: Option<PlanFailure>,
+    /// Sum of the digs' T \[s\].
+    pub total_time_s: f64,
+    /// Sum of W_E \[Wh\].
+    pub total_energy_wh: f64,
+    /// Sum of V \[cm³\].
+    pub total_volume_cm3: f64,
+    /// Mean objective of the digs.
+    pub mean_objective: f64,
+    /// Design area left above the design, as a fraction of it.
+    pub under_dug: f64,
+    /// Area dug below the design, as a fraction of the design area.
+    pub over_dug: f64,
+    /// Deepest cut below the design \[mm\].
+    pub max_over_depth_mm: f64,
+    /// Wall time of the whole plan \[s\].
+    pub planning_seconds: f64,
+    /// Digs used as predicted, stretched in time, refined.
+    pub predicted: usize,
+    pub rescaled: usize,
+    pub refined: usize,
+    /// Digs returned that break a constraint (should be 0).
+    pub infeasible: usize,
+}
+
+impl PlanSummary {
+    pub fn of(run: &PlanRun) -> Self {
+        let digs: Vec<_> = run.steps.iter().map(|s| &s.dig).collect();
+        let (volume, energy, time) = run.plan.totals();
+        let count = |o: Outcome| digs.iter().filter(|d| d.outcome == o).count();
+        let m = &run.plan.metrics;
+        PlanSummary {
+            digs: digs.len(),
+            complete: run.is_complete(),
+            failure: run.failure.clone(),
+            total_time_s: time,
+            total_energy_wh: energy / 3600.0,
+            total_volume_cm3: volume * 1e6,
+            mean_objective: if digs.is_empty() {
+                f64::NAN
+            } else {
+                digs.iter().map(|d| d.report.objective).sum::<f64>() / digs.len() as f64
+            },
+            under_dug: m.under_dug,
+            over_dug: m.over_dug,
+            max_over_depth_mm: m.max_over_depth * 1e3,
+            planning_seconds: run.plan.planning_seconds,
+            predicted: count(Outcome::Predicted),
+            rescaled: count(Outcome::Rescaled),
+            refined: count(Outcome::Refined),
+            infeasible: digs.iter().filter(|d| !d.report.feasible).count(),
+        }
+    }
+}
+
+/// One task planned with the network and with the optimiser in the loop.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WholeTaskRow {
+    pub task: String,
+    pub network: PlanSummary,
+    pub optimiser: PlanSummary,
+    /// Optimisations the optimiser predictor ran (the planner may ask more
+    /// than once per dig when a placement fails).
+    pub optimiser_calls: u64,
+}
+
+/// Plans every task with `baseline` in the loop, in parallel over tasks;
+/// the predictor of a task is seeded from (seed, task name).
+pub fn plan_with_optimiser(
+    cfg: &Config,
+    planner: &Planner,
+    tasks: &[NamedTask],
+    baseline: &Baseline,
+    seed: u64,
+    bar: &indicatif::ProgressBar,
+) -> Result<Vec<(PlanRun, u64)>, dataset_gen::Error> {
+    tasks
+        .par_iter()
+        .map(|t| {
+            let mut predictor = OptimiserPredictor::new(
+                cfg,
+                baseline.algorithm.clone(),
+                baseline.iterations,
+                derive_seed(seed ^ 0x5EED_1007, name_key(&t.name)),
+            )?;
+            let run = run_plan(planner, &t.task, &mut predictor);
+            bar.inc(1);
+            Ok((run, predictor.calls()))
+        })
+        .collect()
+}
