@@ -94,3 +94,122 @@ fn sampler_covers_both_types_within_the_ranges() {
         }
     }
 }
+
+/// The same dig on the same flat surface, built by `new` and by
+/// `on_ground`, and with the machine (and the terrain) moved along x: the
+/// figures agree.
+#[test]
+fn on_ground_is_the_same_dig_wherever_the_machine_stands() {
+    use dataset_gen::dig_problem::TERRAIN_EXTENT;
+    use infer::Terrain;
+    let (cfg, q) = example();
+    let y = infer::DigParams::from_array(infer::query::REFERENCE_Y);
+    let bounds = DigBounds::default();
+    let mut flat = DigProblem::new(&cfg, &q, &bounds, DigObjective::Weighted).unwrap();
+    let reference = flat.report(&y).unwrap();
+    for base_x in [0.0, 0.4, -0.7] {
+        let terrain = Terrain::flat(
+            TERRAIN_EXTENT[0] + base_x,
+            TERRAIN_EXTENT[1] + base_x,
+            cfg.terrain_dx,
+            q.surface,
+        )
+        .unwrap();
+        let mut p = DigProblem::on_ground(
+            &cfg,
+            &q.task(),
+            &terrain,
+            base_x,
+            &bounds,
+            DigObjective::Weighted,
+        )
+        .unwrap();
+        let r = p.report(&y).unwrap();
+        for (a, b) in [
+            (r.objective, reference.objective),
+            (r.volume, reference.volume),
+            (r.energy, reference.energy),
+        ] {
+            assert!(
+                (a - b).abs() <= 1e-6 * b.abs(),
+                "base_x {base_x}: {a} vs {b}"
+            );
+        }
+        assert_eq!(r.feasible, reference.feasible);
+    }
+    // A dug surface: a step 5 cm below H from x = 0.8 m on holds less material.
+    let mut heights = vec![q.surface; 1201];
+    for (j, h) in heights.iter_mut().enumerate() {
+        if -1.5 + j as f64 * cfg.terrain_dx > 0.8 {
+            *h -= 0.05;
+        }
+    }
+    let dug = Terrain::from_heights(-1.5, cfg.terrain_dx, &heights).unwrap();
+    let mut p =
+        DigProblem::on_ground(&cfg, &q.task(), &dug, 0.0, &bounds, DigObjective::Weighted).unwrap();
+    assert!(p.report(&y).unwrap().volume < reference.volume);
+}
+
+#[test]
+fn on_ground_rejects_bad_input() {
+    let (cfg, q) = example();
+    let terrain = infer::Terrain::flat(-1.5, 1.5, cfg.terrain_dx, q.surface).unwrap();
+    let bounds = DigBounds::default();
+    let w = DigObjective::Weighted;
+    let e = DigProblem::on_ground(&cfg, &q.task(), &terrain, f64::NAN, &bounds, w).unwrap_err();
+    assert!(e.to_string().contains("base_x"), "{e}");
+    let mut task = q.task();
+    task.start[1] = 3.0;
+    let e = DigProblem::on_ground(&cfg, &task, &terrain, 0.0, &bounds, w).unwrap_err();
+    assert!(matches!(e, dataset_gen::Error::Model(_)), "{e}");
+    // NSGA-II needs the Pareto form of the problem.
+    let mut p = DigProblem::on_ground(&cfg, &q.task(), &terrain, 0.0, &bounds, w).unwrap();
+    let nsga = AnyAlgorithm::by_name("nsga2", 8).unwrap();
+    let e = dataset_gen::dig_problem::solve_problem(
+        &mut p,
+        &nsga,
+        Budget::iterations(1),
+        &mut rng_from_seed(1),
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("Pareto"), "{e}");
+}
+
+/// The optimiser predictor: call k is seeded with (seed, k), so two
+/// predictors with the same seed answer the same sequence of queries alike,
+/// and its answer is the optimiser's on the ground it is given.
+#[test]
+fn optimiser_predictor_is_seeded_per_call() {
+    use dataset_gen::predictor::OptimiserPredictor;
+    use infer::{DigPredictor, Ground, Terrain};
+    let (cfg, q) = example();
+    let terrain = Terrain::flat(-1.5, 1.5, cfg.terrain_dx, q.surface).unwrap();
+    let ground = Ground {
+        terrain: &terrain,
+        base_x: 0.0,
+    };
+    let alg = AnyAlgorithm::by_name("pso", 8).unwrap();
+    let make = || OptimiserPredictor::new(&cfg, alg.clone(), 4, 11).unwrap();
+    let (mut a, mut b) = (make(), make());
+    let ya = [
+        a.predict(&q, ground).unwrap(),
+        a.predict(&q, ground).unwrap(),
+    ];
+    let yb = [
+        b.predict(&q, ground).unwrap(),
+        b.predict(&q, ground).unwrap(),
+    ];
+    assert_eq!(ya, yb);
+    assert_ne!(ya[0], ya[1], "each call has its own stream");
+    assert_eq!(a.calls(), 2);
+    assert!(a.seconds() > 0.0);
+    let last = a.last().unwrap();
+    assert_eq!(last.y, ya[1].to_array());
+    assert!(last.report.is_some());
+    // Default: PSO at the source's settings.
+    let p = OptimiserPredictor::pso(&cfg, 1).unwrap();
+    assert_eq!(p.algorithm().population(), 50);
+    // Settings that cannot run are refused up front.
+    let bad = AnyAlgorithm::by_name("pso", 0).unwrap();
+    assert!(OptimiserPredictor::new(&cfg, bad, 4, 1).is_err());
+}

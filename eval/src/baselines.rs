@@ -12,7 +12,8 @@ use dataset_gen::algorithms::{AnyAlgorithm, Gwo, Nsga2, Pso};
 use dataset_gen::dig_problem::{DigBounds, DigProblem, objective_for, solve_problem};
 use dataset_gen::rng::rng_from_seed;
 use dataset_gen::runner::Budget;
-use infer::{Config, DigReport};
+use infer::repair::{DesignGuard, assess};
+use infer::{CarveBuffer, Config, DigParams, DigReport, Ground, Planner};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -104,13 +105,26 @@ pub struct DigFigures {
     pub feasible: bool,
     /// The most violated constraint, or why the dig could not be evaluated.
     pub note: Option<String>,
+    /// Deepest new cut below the trench's design profile \[mm\].
+    pub over_dig_mm: f64,
+    /// The cut stays within the planner's design guard (depth and area).
+    pub within_design: bool,
     /// Planning time of this dig \[s\].
     pub seconds: f64,
 }
 
 impl DigFigures {
-    pub fn from_report(y: [f64; 4], r: &DigReport, seconds: f64) -> Self {
+    /// `over_dig_mm` and `within_design` describe the cut below the design.
+    pub fn from_report(
+        y: [f64; 4],
+        r: &DigReport,
+        over_dig_mm: f64,
+        within_design: bool,
+        seconds: f64,
+    ) -> Self {
         DigFigures {
+            over_dig_mm,
+            within_design,
             y,
             duration_s: r.duration,
             volume_cm3: r.volume * 1e6,
@@ -132,19 +146,40 @@ impl DigFigures {
             objective: f64::NAN,
             feasible: false,
             note: Some(why),
+            over_dig_mm: f64::NAN,
+            within_design: false,
             seconds,
         }
     }
 }
 
+/// The guard the planner puts on every dig of a task (its settings' limits
+/// on the cut below the design profile).
+pub fn design_guard(planner: &Planner, design: &infer::DesignProfile) -> DesignGuard {
+    let s = planner.settings();
+    DesignGuard {
+        profile: *design,
+        max_depth: s.over_dig_depth,
+        max_area: s.over_dig_area * design.area(),
+    }
+}
+
 /// Solves the planned dig of `step` again with `baseline` from the same
-/// start and end angles on the surface before it, seeded with `seed`.
-pub fn solve_again(cfg: &Config, step: &PlanStep, baseline: &Baseline, seed: u64) -> DigFigures {
+/// start and end angles on the surface before it, seeded with `seed`, and
+/// measures its answer against `guard`.
+pub fn solve_again(
+    cfg: &Config,
+    step: &PlanStep,
+    guard: &DesignGuard,
+    baseline: &Baseline,
+    seed: u64,
+) -> DigFigures {
     let clock = Instant::now();
     let dig = &step.dig;
+    let task = dig.query.task();
     let result = DigProblem::on_ground(
         cfg,
-        &dig.query.task(),
+        &task,
         &step.terrain_before,
         dig.base_x,
         &DigBounds::default(),
@@ -159,15 +194,34 @@ pub fn solve_again(cfg: &Config, step: &PlanStep, baseline: &Baseline, seed: u64
         )
     });
     let seconds = clock.elapsed().as_secs_f64();
-    match result {
-        Ok(sol) => match &sol.report {
-            Some(r) => DigFigures::from_report(sol.y, r, seconds),
-            None => DigFigures::failed(
-                sol.y,
-                "the exact model could not evaluate the optimiser's answer".into(),
-                seconds,
-            ),
-        },
-        Err(e) => DigFigures::failed([f64::NAN; 4], e.to_string(), seconds),
+    let sol = match result {
+        Ok(sol) => sol,
+        Err(e) => return DigFigures::failed([f64::NAN; 4], e.to_string(), seconds),
+    };
+    let ground = Ground {
+        terrain: &step.terrain_before,
+        base_x: dig.base_x,
+    };
+    let mut scratch = CarveBuffer::default();
+    match assess(
+        cfg,
+        &task,
+        &DigParams::from_array(sol.y),
+        ground,
+        &mut scratch,
+        Some(guard),
+    ) {
+        Ok(a) => DigFigures::from_report(
+            sol.y,
+            &a.report,
+            a.over_dig.max_depth * 1e3,
+            guard.violation(&a.over_dig) == 0.0,
+            seconds,
+        ),
+        Err(e) => DigFigures::failed(
+            sol.y,
+            format!("the exact model could not evaluate the optimiser's answer: {e}"),
+            seconds,
+        ),
     }
 }

@@ -3,10 +3,10 @@
 //! surface, with per-dig seeds so the numbers do not depend on the number
 //! of threads.
 
-use crate::baselines::{Baseline, DigFigures, solve_again};
+use crate::baselines::{Baseline, DigFigures, design_guard, solve_again};
 use crate::planning::PlanRun;
 use dataset_gen::rng::derive_seed;
-use infer::{Config, DigType, Outcome, Pose};
+use infer::{DigType, Outcome, Planner, Pose};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -62,7 +62,7 @@ pub fn name_key(name: &str) -> u64 {
 /// Solves every dig of `runs` (one per task, named) again with each
 /// baseline, in parallel over digs on the current rayon pool.
 pub fn compare_digs(
-    cfg: &Config,
+    planner: &Planner,
     runs: &[(&str, &PlanRun)],
     baselines: &[Baseline],
     seed: u64,
@@ -78,12 +78,25 @@ pub fn compare_digs(
             let (name, run) = runs[t];
             let step = &run.steps[d];
             let dig = &step.dig;
-            let network = DigFigures::from_report(dig.params.to_array(), &dig.report, step.seconds);
+            let guard = design_guard(planner, &run.plan.design);
+            let network = DigFigures::from_report(
+                dig.params.to_array(),
+                &dig.report,
+                dig.over_dig.max_depth * 1e3,
+                guard.violation(&dig.over_dig) == 0.0,
+                step.seconds,
+            );
             let baselines = baselines
                 .iter()
                 .enumerate()
                 .map(|(b, baseline)| {
-                    let figures = solve_again(cfg, step, baseline, dig_seed(seed, name, d, b));
+                    let figures = solve_again(
+                        planner.config(),
+                        step,
+                        &guard,
+                        baseline,
+                        dig_seed(seed, name, d, b),
+                    );
                     BaselineDig {
                         method: baseline.name().to_string(),
                         objective_ratio: network.objective / figures.objective,

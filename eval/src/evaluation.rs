@@ -194,7 +194,13 @@ pub fn evaluate(
         .collect();
     let n_digs: usize = selected.iter().map(|(_, r)| r.steps.len()).sum();
     let bar = progress::bar(n_digs as u64, "digs solved again", show_progress);
-    let digs = compare_digs(cfg, &selected, &settings.baselines, settings.seed, &bar);
+    let digs = compare_digs(
+        &planner,
+        &selected,
+        &settings.baselines,
+        settings.seed,
+        &bar,
+    );
     bar.finish_and_clear();
 
     let in_loop: Vec<NamedTask> = tasks

@@ -8,6 +8,7 @@ use crate::evaluation::TaskReport;
 use crate::planning::{PlanFailure, PlanRun};
 use crate::whole::WholeTaskRow;
 use dataset_gen::stats::Distribution;
+use infer::Outcome;
 use serde::{Deserialize, Serialize};
 
 /// One optimiser against the network over the digs it was run on.
@@ -24,6 +25,10 @@ pub struct BaselineSummary {
     pub network_mean_objective: f64,
     /// network mean / optimiser mean (1.02: the network is 2 % worse).
     pub objective_ratio: f64,
+    /// Of the feasible answers, those whose cut also stays within the
+    /// planner's design guard, and the same ratio over them.
+    pub within_design: usize,
+    pub objective_ratio_within_design: f64,
     /// Per-dig network / optimiser objective over the same digs.
     pub dig_ratio: Distribution,
     /// Planning time per dig \[s\].
@@ -56,6 +61,8 @@ pub struct Summary {
     pub refined: usize,
     /// Network planning time per dig and per task \[s\].
     pub network_dig_seconds: Distribution,
+    /// The same for the digs used as predicted, rescaled and refined.
+    pub network_dig_seconds_by_outcome: Vec<(Outcome, Distribution)>,
     pub network_task_seconds: Distribution,
     pub baselines: Vec<BaselineSummary>,
     /// Median PSO time per dig / median network time per dig.
@@ -79,6 +86,9 @@ fn baseline_summary(method: &str, digs: &[DigRow]) -> BaselineSummary {
     };
     let opt = mean(&mut both.iter().map(|(_, f)| f.objective));
     let net = mean(&mut both.iter().map(|(r, _)| r.network.objective));
+    let inside: Vec<_> = both.iter().filter(|(_, f)| f.within_design).collect();
+    let opt_in = mean(&mut inside.iter().map(|(_, f)| f.objective));
+    let net_in = mean(&mut inside.iter().map(|(r, _)| r.network.objective));
     let ratios: Vec<f64> = both
         .iter()
         .map(|(r, f)| r.network.objective / f.objective)
@@ -91,6 +101,8 @@ fn baseline_summary(method: &str, digs: &[DigRow]) -> BaselineSummary {
         mean_objective: opt,
         network_mean_objective: net,
         objective_ratio: net / opt,
+        within_design: inside.len(),
+        objective_ratio_within_design: net_in / opt_in,
         dig_ratio: Distribution::of(&ratios),
         dig_seconds: Distribution::of(&secs),
     }
@@ -181,6 +193,17 @@ pub fn summarise(
         rescaled: tasks.iter().map(|t| t.network.rescaled).sum(),
         refined: tasks.iter().map(|t| t.network.refined).sum(),
         network_dig_seconds,
+        network_dig_seconds_by_outcome: [Outcome::Predicted, Outcome::Rescaled, Outcome::Refined]
+            .into_iter()
+            .map(|o| {
+                let t: Vec<f64> = planned
+                    .iter()
+                    .filter(|s| s.dig.outcome == o)
+                    .map(|s| s.seconds)
+                    .collect();
+                (o, Distribution::of(&t))
+            })
+            .collect(),
         network_task_seconds: Distribution::of(&task_secs),
         baselines,
         speedup_vs_pso: speedup,
