@@ -49,6 +49,9 @@ pub struct Plan {
     pub digs: Vec<DigRecord>,
     /// Final surface against the design profile.
     pub metrics: ProfileMetrics,
+    /// Why the plan ended before the task was dug out, if it did: no
+    /// feasible dig could be found for the material left.
+    pub stopped: Option<String>,
     /// Planning time \[s\] (wall clock, including the predictor).
     pub planning_seconds: f64,
 }
@@ -133,6 +136,7 @@ impl Planner {
             task: *task,
             design,
             metrics: state.metrics(),
+            stopped: state.stopped().map(|e| e.to_string()),
             digs,
             planning_seconds: clock.elapsed().as_secs_f64(),
         })

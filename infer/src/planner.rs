@@ -1,23 +1,25 @@
 //! The continuous trench planner (spec §9): a trenching task becomes a
 //! sequence of digs, each planned on the surface the last one left.
 //!
-//! The trench's design volume is split into `n` digs of nearly equal volume,
-//! each inside [V_min, V_max]. The first dig is a downward dig at the far
-//! (starting) end from the top edge; it follows the far wall down. The
-//! middle digs are backward digs that start on the trench floor the earlier
-//! digs reached and drag along it towards the machine, cutting everything
-//! above the floor; each ends a little above the floor, leaving a face. The
-//! last dig starts on the ground at the top of that face and ends at the
-//! near top edge, so it forms the near wall. When a dig's start is nearer to
-//! the machine than its type's query range allows, the machine moves back
-//! first (recorded on the dig).
+//! Each dig is chosen by a small search. The far end of the design
+//! material still left is found on the current surface (digging starts at
+//! the far wall and works towards the machine, as in the source). Start
+//! points at and a little behind it, each dig type and a few chords give
+//! candidate digs whose start and end tooth-tip poses lie inside
+//! [`QueryRanges`] (so a network is asked in-distribution); the
+//! [`DigPredictor`] proposes Y for each and the exact model evaluates it on
+//! the real surface with a [`DesignGuard`] that keeps the cut within a small
+//! tolerance of the design profile. The feasible candidate that removes the
+//! most design material (less what it cuts below the design, with the dig
+//! objective as a tie-break) is taken; if none is feasible, the least
+//! infeasible ones are repaired (time rescaling, then a bounded local
+//! refinement), and if that fails too the error names the constraint. The
+//! task ends when the material left would not fill the bucket to V_min.
+//! When a start is nearer to the machine than its type's query range
+//! allows, the machine moves back first (recorded on the dig).
 //!
-//! For each dig the planner chooses the start and end tooth-tip poses inside
-//! [`QueryRanges`] (so a network is asked in-distribution), asks a
-//! [`DigPredictor`] for Y, and validates and repairs it with the exact model
-//! and a [`DesignGuard`] that keeps the cut within a small tolerance of the
-//! design profile. The carving of the accepted dig is committed to the
-//! terrain in the caller-owned [`PlanState`].
+//! The accepted dig's carving is committed to the terrain in the
+//! caller-owned [`PlanState`].
 //!
 //! The core API ([`Planner::start`], [`Planner::next_dig`]) uses no heap; the
 //! per-dig step allocates nothing. With `std`, [`Planner::plan`] runs a
@@ -34,7 +36,8 @@ use crate::math::deg;
 use crate::predictor::DigPredictor;
 use crate::query::{DigQuery, QueryRanges};
 use crate::repair::{
-    DesignGuard, Outcome, OverDig, RepairError, RepairSettings, Violation, repair,
+    Assessment, DesignGuard, Outcome, OverDig, RepairError, RepairSettings, Violation, assess,
+    repair,
 };
 use crate::terrain::{CarveBuffer, TERRAIN_CAPACITY, Terrain};
 use crate::trajectory::DigParams;
@@ -51,8 +54,8 @@ pub struct PlannerSettings {
     /// The query region the network was trained on; digs stay inside it.
     pub ranges: QueryRanges,
     pub repair: RepairSettings,
-    /// Volume planned per dig, as a fraction of V_max: the task takes
-    /// ⌈V_design / (fill · V_max)⌉ digs.
+    /// Volume per dig, as a fraction of V_max, for the expected dig count
+    /// ⌈V_design / (fill · V_max)⌉ reported by [`Planner::digs_for`].
     pub fill: f64,
     /// Deepest trench the planner accepts \[m\].
     pub max_depth: f64,
@@ -60,20 +63,34 @@ pub struct PlannerSettings {
     pub over_dig_depth: f64,
     /// Most area one dig may cut below the design, as a fraction of the design area.
     pub over_dig_area: f64,
-    /// Height above the floor at which backward digs start \[m\].
-    pub start_clearance: f64,
-    /// A surface within this of the floor counts as reached \[m\].
-    pub floor_tolerance: f64,
-    /// Backward digs start where the surface is within this of the floor \[m\].
-    pub face_height: f64,
-    /// Extra design area a middle dig is aimed at, as a fraction of its share.
-    pub overshoot: f64,
-    /// Bucket attitude ζ at the start of downward and backward digs \[rad\].
+    /// Material thinner than this above the design counts as dug \[m\].
+    pub material_tolerance: f64,
+    /// The next dig looks for material from the far-most x that has
+    /// `window_fill` · V_min of design material within `window_chord`
+    /// nearer the machine \[m\].
+    pub window_chord: f64,
+    pub window_fill: f64,
+    /// Start points tried, nearer the machine than that x \[m\].
+    pub start_offsets: [f64; 3],
+    /// Chords tried, as fractions of each type's chord range.
+    pub chord_fractions: [f64; 3],
+    /// Bucket attitude ζ preferred at the start of downward and backward digs \[rad\].
     pub start_zeta: [f64; 2],
-    /// Bucket attitude ζ at the end of a dig \[rad\].
+    /// Bucket attitude ζ preferred at the end of a dig \[rad\].
     pub end_zeta: f64,
     /// Where a dig's start is placed in the machine frame after a move \[m\].
     pub start_after_move: f64,
+    /// Score weights of a candidate dig, per V_max of material: cut below
+    /// the design (against design material removed), the dig objective,
+    /// and a machine move.
+    pub weight_over_dig: f64,
+    pub weight_objective: f64,
+    /// Bonus per window chord of design surface a dig newly brings to
+    /// within `reach_tolerance`: digging down to the design first leaves
+    /// layers the next digs can still fill a bucket from.
+    pub weight_reach: f64,
+    pub reach_tolerance: f64,
+    pub weight_move: f64,
 }
 
 impl Default for PlannerSettings {
@@ -84,14 +101,20 @@ impl Default for PlannerSettings {
             fill: 0.9,
             max_depth: 0.20,
             over_dig_depth: 0.015,
-            over_dig_area: 0.004,
-            start_clearance: 0.005,
-            floor_tolerance: 0.01,
-            face_height: 0.06,
-            overshoot: 0.05,
+            over_dig_area: 0.01,
+            material_tolerance: 0.003,
+            window_chord: 0.30,
+            window_fill: 0.7,
+            start_offsets: [0.0, 0.06, 0.12],
+            chord_fractions: [0.0, 0.5, 1.0],
             start_zeta: [deg(-85.0), deg(-75.0)],
             end_zeta: deg(160.0),
             start_after_move: 0.95,
+            weight_over_dig: 3.0,
+            weight_objective: 0.05,
+            weight_reach: 0.0,
+            reach_tolerance: 0.01,
+            weight_move: 0.05,
         }
     }
 }
@@ -173,10 +196,13 @@ pub struct PlanState {
     design: DesignProfile,
     guard: DesignGuard,
     terrain: Terrain,
-    scratch: CarveBuffer,
+    /// Two carving buffers: the best candidate's and the one being tried.
+    scratch: [CarveBuffer; 2],
     base_x: f64,
     done: usize,
-    total: usize,
+    expected: usize,
+    finished: bool,
+    stopped: Option<PlanError>,
 }
 
 impl core::fmt::Debug for PlanState {
@@ -185,7 +211,9 @@ impl core::fmt::Debug for PlanState {
             .field("task", &self.task)
             .field("base_x", &self.base_x)
             .field("done", &self.done)
-            .field("total", &self.total)
+            .field("expected", &self.expected)
+            .field("finished", &self.finished)
+            .field("stopped", &self.stopped)
             .finish()
     }
 }
@@ -205,12 +233,19 @@ impl PlanState {
     pub fn base_x(&self) -> f64 {
         self.base_x
     }
-    /// Digs planned so far and in all.
+    /// Digs planned so far, and the number expected from the volume
+    /// (the plan may take more or fewer).
     pub fn progress(&self) -> (usize, usize) {
-        (self.done, self.total)
+        (self.done, self.expected)
     }
     pub fn is_finished(&self) -> bool {
-        self.done >= self.total
+        self.finished
+    }
+    /// Why the plan ended with design material left that would fill a
+    /// bucket: no candidate dig could be made feasible (that material is
+    /// reported as under-dug). `None` when the task was dug out.
+    pub fn stopped(&self) -> Option<&PlanError> {
+        self.stopped.as_ref()
     }
     /// The surface so far against the design profile.
     pub fn metrics(&self) -> ProfileMetrics {
@@ -270,7 +305,7 @@ impl Planner {
 
     /// A fresh state for `task`: flat ground at y_g, machine at base_x = 0.
     pub fn start(&self, task: &TrenchTask) -> Result<PlanState, PlanError> {
-        let total = self.digs_for(task)?;
+        let expected = self.digs_for(task)?;
         let design = DesignProfile::new(&self.cfg, task);
         let x0 = (design.near_edge - 1.2).min(-0.2);
         let x1 = (design.far_edge + 0.4).max(1.5);
@@ -284,10 +319,12 @@ impl Planner {
                 max_area: self.settings.over_dig_area * design.area(),
             },
             terrain,
-            scratch: CarveBuffer::default(),
+            scratch: [CarveBuffer::default(), CarveBuffer::default()],
             base_x: 0.0,
             done: 0,
-            total,
+            expected,
+            finished: false,
+            stopped: None,
         })
     }
 
@@ -298,275 +335,409 @@ impl Planner {
         state: &mut PlanState,
         predictor: &mut P,
     ) -> Result<Option<PlannedDig>, PlanError> {
-        if state.is_finished() {
+        if state.finished {
             return Ok(None);
         }
         // Stop when what is left would not fill the bucket to V_min: the
         // rest is reported as under-dug rather than dug by an infeasible dig.
-        let d = &state.design;
+        let s = &self.settings;
+        let d = state.design;
         let left = d.remaining_area(&state.terrain, d.near_edge, d.far_edge)
             * self.cfg.machine.bucket_width;
-        if state.done > 0 && left < self.cfg.objective.volume[0] {
-            state.total = state.done;
+        let anchors = self.anchors(state);
+        if left < self.cfg.objective.volume[0] || anchors[0].is_none() || state.done >= MAX_DIGS {
+            state.finished = true;
             return Ok(None);
         }
+        let far = anchors[0].unwrap_or(d.far_edge);
         let index = state.done;
-        let first = index == 0;
-        let last = index + 1 == state.total;
-        let floor_reached = self.floor_point(state).is_some();
-        let kinds = if first || last || !floor_reached {
-            [DigType::Downward, DigType::Backward]
-        } else {
-            [DigType::Backward, DigType::Downward]
-        };
+        // The best feasible candidate (score, dig, its buffer) and the least
+        // infeasible ones (violation, candidate), for repair.
+        let mut best: Option<(f64, PlannedDig, usize)> = None;
+        let mut worst_kept: [Option<(f64, Candidate, DigParams)>; 2] = [None, None];
         let mut first_error = None;
-        // The planned chord first, then the longest one the range allows
-        // (it reaches more of the material the earlier digs left).
-        let attempts = [
-            (kinds[0], false),
-            (kinds[1], false),
-            (kinds[0], true),
-            (kinds[1], true),
-        ];
-        for (kind, long) in attempts {
-            match self.try_dig(state, predictor, kind, first, last, long) {
-                Ok(dig) => {
-                    state.terrain.commit(&state.scratch);
-                    state.base_x = dig.base_x;
-                    state.done += 1;
-                    return Ok(Some(dig));
-                }
-                Err(e) => {
-                    if first_error.is_none() {
-                        first_error = Some(e);
+        let mut cur = 0usize;
+        let starts = anchors
+            .into_iter()
+            .flatten()
+            .flat_map(|a| s.start_offsets.map(|o| a - o));
+        for x_s in starts {
+            for kind in [DigType::Downward, DigType::Backward] {
+                let r = s.ranges.of(kind);
+                for frac in s.chord_fractions {
+                    let chord = r.chord[0] + (r.chord[1] - r.chord[0]) * frac;
+                    let c = match self.candidate(state, kind, x_s, chord) {
+                        Ok(c) => c,
+                        Err(e) => {
+                            first_error.get_or_insert(e);
+                            continue;
+                        }
+                    };
+                    let predicted = match predictor.predict(&c.query, c.ground(state)) {
+                        Ok(p) => p,
+                        Err(error) => {
+                            first_error.get_or_insert(PlanError::Predictor { dig: index, error });
+                            continue;
+                        }
+                    };
+                    let (terrain, scratch) = (&state.terrain, &mut state.scratch[cur]);
+                    let Ok(a) = assess(
+                        &self.cfg,
+                        &c.query.task(),
+                        &predicted,
+                        Ground {
+                            terrain,
+                            base_x: c.base_x,
+                        },
+                        scratch,
+                        Some(&state.guard),
+                    ) else {
+                        continue;
+                    };
+                    if !a.feasible {
+                        keep_least_violating(&mut worst_kept, a.violation, c, predicted);
+                        continue;
+                    }
+                    let score = self.score(state, cur, &a, &c);
+                    if best.as_ref().is_none_or(|b| score > b.0) {
+                        let dig = c.planned(index, predicted, predicted, Outcome::Predicted, 1, &a);
+                        best = Some((score, dig, cur));
+                        cur = 1 - cur;
                     }
                 }
             }
         }
-        Err(first_error.expect("at least one dig type was tried"))
+        // Nothing feasible as predicted: repair the least infeasible candidates.
+        if best.is_none() {
+            for (_, c, predicted) in worst_kept.into_iter().flatten() {
+                let ground = Ground {
+                    terrain: &state.terrain,
+                    base_x: c.base_x,
+                };
+                match repair(
+                    &self.cfg,
+                    &c.query.task(),
+                    &predicted,
+                    ground,
+                    &mut state.scratch[cur],
+                    Some(&state.guard),
+                    &s.repair,
+                ) {
+                    Ok(rep) => {
+                        let dig = c.planned(
+                            index,
+                            predicted,
+                            rep.params,
+                            rep.outcome,
+                            rep.evaluations,
+                            &rep.assessment,
+                        );
+                        best = Some((0.0, dig, cur));
+                        break;
+                    }
+                    Err(error) => {
+                        // A repair that failed says more than an unreachable pose.
+                        first_error = Some(PlanError::Dig {
+                            dig: index,
+                            kind: c.kind,
+                            start: c.start,
+                            end: c.end,
+                            error,
+                        });
+                    }
+                }
+            }
+        }
+        let Some((_, dig, buf)) = best else {
+            let error = first_error.unwrap_or(PlanError::Pose {
+                dig: index,
+                kind: DigType::Downward,
+                error: Error::Unreachable {
+                    x: far - state.base_x,
+                    y: state.terrain.height_at(far).unwrap_or(d.ground),
+                },
+            });
+            // After the first dig, the plan so far stands (every dig in it is
+            // feasible) and what is left is reported as under-dug, with why.
+            if index == 0 {
+                return Err(error);
+            }
+            state.finished = true;
+            state.stopped = Some(error);
+            return Ok(None);
+        };
+        state.terrain.commit(&state.scratch[buf]);
+        state.base_x = dig.base_x;
+        state.done += 1;
+        Ok(Some(dig))
     }
 
-    /// Nearest-to-machine x in the trench where the floor has been reached.
-    fn floor_point(&self, state: &PlanState) -> Option<f64> {
+    /// Where the next dig's candidate starts are anchored: the far end of
+    /// the material (see [`Self::far_material`]), and the far ends of the
+    /// next two stretches of untouched ground nearer the machine (the lips
+    /// of the faces earlier digs left).
+    fn anchors(&self, state: &PlanState) -> [Option<f64>; 3] {
+        let mut out = [self.far_material(state), None, None];
+        let Some(far) = out[0] else { return out };
         let d = &state.design;
         let t = &state.terrain;
-        (0..t.len())
-            .map(|j| (t.x_at(j), t.heights()[j]))
-            .find(|&(x, s)| {
-                x > d.near_edge && x < d.far_edge && s <= d.floor + self.settings.floor_tolerance
-            })
-            .map(|(x, _)| x)
-    }
-
-    /// Nearest-to-machine x in the trench where the surface has been cut
-    /// below the ground.
-    fn face_top(&self, state: &PlanState) -> Option<f64> {
-        let d = &state.design;
-        let t = &state.terrain;
-        (0..t.len())
-            .map(|j| (t.x_at(j), t.heights()[j]))
-            .find(|&(x, s)| x > d.near_edge && x < d.far_edge && s < d.ground - 0.005)
-            .map(|(x, _)| x)
-    }
-
-    /// Nearest-to-machine x in the trench where the cut is within
-    /// `height` of the floor: the foot of the face the last dig left.
-    fn face_foot(&self, state: &PlanState, height: f64) -> Option<f64> {
-        let d = &state.design;
-        let t = &state.terrain;
-        (0..t.len())
-            .map(|j| (t.x_at(j), t.heights()[j]))
-            .find(|&(x, s)| x > d.near_edge && x < d.far_edge && s <= d.floor + height)
-            .map(|(x, _)| x)
-    }
-
-    /// x where the design area still to dig in [x, from] reaches `area`.
-    fn x_for_area(&self, state: &PlanState, area: f64, from: f64) -> f64 {
-        let d = &state.design;
-        let t = &state.terrain;
-        let mut sum = 0.0;
+        let mut k = 1;
+        let mut on_ground = false;
         for j in (0..t.len()).rev() {
             let x = t.x_at(j);
-            if x >= d.far_edge.min(from) {
+            if x >= far || x >= d.far_edge {
                 continue;
             }
-            if x <= d.near_edge {
-                return d.near_edge;
+            if x <= d.near_edge || k == out.len() {
+                break;
             }
-            sum += (t.heights()[j].min(d.ground) - d.height_at(x)).max(0.0) * t.dx();
-            if sum >= area {
-                return x;
+            let ground = t.heights()[j] >= d.ground - self.settings.material_tolerance;
+            if ground && !on_ground {
+                out[k] = Some(x);
+                k += 1;
             }
+            on_ground = ground;
         }
-        d.near_edge
+        out
     }
 
-    fn try_dig<P: DigPredictor + ?Sized>(
-        &self,
-        state: &mut PlanState,
-        predictor: &mut P,
-        kind: DigType,
-        first: bool,
-        last: bool,
-        long: bool,
-    ) -> Result<PlannedDig, PlanError> {
+    /// Where the next dig starts looking: the far-most x with enough design
+    /// material within one chord nearer the machine to fill much of a
+    /// bucket (a thin wedge left under the far wall is skipped), else the
+    /// far-most x with any material left; `None` when nothing is left.
+    fn far_material(&self, state: &PlanState) -> Option<f64> {
+        let d = &state.design;
+        let t = &state.terrain;
         let s = &self.settings;
-        let d = state.design;
-        let r = s.ranges.of(kind);
-        let index = state.done;
-        let height = |state: &PlanState, x: f64| state.terrain.height_at(x).unwrap_or(d.ground);
-
-        // Start point (terrain frame).
-        let (mut x_s, mut y_s) = if first {
-            let x = d.far_edge - 0.002;
-            (x, height(state, x))
-        } else if last || kind == DigType::Downward {
-            let x = self.face_top(state).unwrap_or(d.far_edge - 0.002);
-            (x, height(state, x))
-        } else {
-            let x = self
-                .face_foot(state, s.face_height)
-                .or_else(|| self.face_top(state))
-                .unwrap_or(d.far_edge - 0.002);
-            (x, height(state, x).max(d.floor + s.start_clearance))
+        let window = s.window_chord;
+        let wanted = s.window_fill * self.cfg.objective.volume[0] / self.cfg.machine.bucket_width;
+        let left = |j: usize| {
+            let x = t.x_at(j);
+            if x <= d.near_edge || x >= d.far_edge {
+                return 0.0;
+            }
+            let m = t.heights()[j].min(d.ground) - d.height_at(x);
+            if m > s.material_tolerance {
+                m * t.dx()
+            } else {
+                0.0
+            }
         };
-        // End point: the near edge for the last dig, else where this dig's
-        // share of the remaining design area is reached.
-        let remaining = d.remaining_area(&state.terrain, d.near_edge, d.far_edge);
-        let share = remaining / (state.total - index) as f64;
-        let mut x_e = if last {
-            d.near_edge
-        } else {
-            self.x_for_area(state, share * (1.0 + s.overshoot), x_s)
-        };
-        let chord = if long {
-            r.chord[1]
-        } else {
-            (x_s - x_e).clamp(r.chord[0], r.chord[1])
-        };
-        if x_s - x_e < r.chord[0] && !first {
-            // Too short a dig: start further back over ground already dug.
-            x_s = (x_e + chord).min(d.far_edge - 0.002);
-            y_s = height(state, x_s);
-            if kind == DigType::Backward {
-                y_s = y_s.max(d.floor + s.start_clearance);
+        let per_node = (window / t.dx()) as usize;
+        let mut far_any = None;
+        // From the far end, the first node with material whose window
+        // [x − window_chord, x] holds enough of it.
+        for j in (0..t.len()).rev() {
+            if left(j) == 0.0 {
+                continue;
+            }
+            far_any.get_or_insert(t.x_at(j));
+            let sum: f64 = (j.saturating_sub(per_node)..=j).map(left).sum();
+            if sum >= wanted {
+                return Some(t.x_at(j));
             }
         }
-        x_e = x_s - chord;
-        // The machine moves back when the start is too near to it.
+        far_any
+    }
+
+    /// How good a feasible candidate is: design material it removes, less
+    /// what it cuts below the design, per V_max of material; the objective
+    /// and a machine move count against it.
+    fn score(&self, state: &PlanState, buf: usize, a: &Assessment, c: &Candidate) -> f64 {
+        let d = &state.design;
+        let t = &state.terrain;
+        let (lo, carved) = state.scratch[buf].window();
+        let s = &self.settings;
+        let (mut removed, mut reached) = (0.0, 0.0);
+        for (k, &new) in carved.iter().enumerate() {
+            let j = lo + k;
+            let design = d.height_at(t.x_at(j));
+            let old = t.heights()[j].min(d.ground);
+            removed += (old - new.max(design)).max(0.0);
+            if old > design + s.reach_tolerance && new <= design + s.reach_tolerance {
+                reached += 1.0;
+            }
+        }
+        let per = self.cfg.objective.volume[1] / self.cfg.machine.bucket_width;
+        (removed * t.dx() - s.weight_over_dig * a.over_dig.area) / per
+            + s.weight_reach * reached * t.dx() / s.window_chord
+            - s.weight_objective * a.report.objective
+            - if c.moved_from.is_some() {
+                s.weight_move
+            } else {
+                0.0
+            }
+    }
+
+    /// The dig of `kind` starting on the surface at `x_s` (terrain frame)
+    /// with the given chord: poses, query and where the machine stands.
+    fn candidate(
+        &self,
+        state: &PlanState,
+        kind: DigType,
+        x_s: f64,
+        chord: f64,
+    ) -> Result<Candidate, PlanError> {
+        let s = &self.settings;
+        let d = &state.design;
+        let r = s.ranges.of(kind);
+        let index = state.done;
+        let height = |x: f64| state.terrain.height_at(x).unwrap_or(d.ground);
+        let y_s = height(x_s);
+        let x_e = x_s - chord;
+        // The machine moves back when the start is too near to it; a start
+        // beyond the range is not tried.
         let mut base_x = state.base_x;
         let mut moved_from = None;
         if x_s - base_x < r.start_x[0] {
-            let new_base = x_s - s.start_after_move.clamp(r.start_x[0], r.start_x[1]);
-            if new_base < base_x {
-                moved_from = Some(base_x);
-                base_x = new_base;
-            }
+            moved_from = Some(base_x);
+            base_x = x_s - s.start_after_move.clamp(r.start_x[0], r.start_x[1]);
         }
         if x_s - base_x > r.start_x[1] {
-            x_s = base_x + r.start_x[1];
-            y_s = height(state, x_s);
-            x_e = x_s - chord;
+            return Err(PlanError::Pose {
+                dig: index,
+                kind,
+                error: Error::Unreachable {
+                    x: x_s - base_x,
+                    y: y_s,
+                },
+            });
         }
         let [lift_lo, lift_hi] = r.end_lift;
-        let y_e = if kind == DigType::Backward && !last {
-            y_s + lift_hi
-        } else {
-            y_s + (height(state, x_e) - y_s).clamp(lift_lo, lift_hi)
-        };
+        let y_e = y_s + (height(x_e) - y_s).clamp(lift_lo, lift_hi);
         let surface = y_s.clamp(s.ranges.surface[0], s.ranges.surface[1]);
+        let pose_error = |error| PlanError::Pose {
+            dig: index,
+            kind,
+            error,
+        };
+        // The start pose: the preferred attitude if the arm takes it there,
+        // else the nearest one in the type's range that it does take.
         let zeta_s = match kind {
             DigType::Downward => s.start_zeta[0],
             DigType::Backward => s.start_zeta[1],
-        }
-        .clamp(r.start_zeta[0], r.start_zeta[1]);
-        let start = Pose {
+        };
+        let mut start = Err(Error::Unreachable {
             x: x_s - base_x,
             y: y_s,
-            zeta: zeta_s,
-        };
-        let start_q = crate::kinematics::inverse(&self.cfg.machine, &start, Elbow::Auto).map_err(
-            |error| PlanError::Pose {
-                dig: index,
-                kind,
-                error,
-            },
-        )?;
-        // The end pose: the wanted one if the arm reaches it, else the
-        // nearest reachable one, trying a higher end and other attitudes
-        // before moving the end towards the machine (a longer chord).
-        let zetas = [0.0, -10.0, 10.0, -20.0, 20.0]
-            .map(|dz| (s.end_zeta + deg(dz)).clamp(r.end_zeta[0], r.end_zeta[1]));
-        let mut found = None;
-        let mut last_error = Error::Unreachable { x: x_e, y: y_e };
-        let mut shift = 0.0;
-        'search: while x_s - (x_e - shift) <= r.chord[1] + 1e-9 {
-            for y in [y_e, y_s + lift_hi] {
-                for zeta in zetas {
-                    let end = Pose {
-                        x: x_e - shift - base_x,
-                        y,
-                        zeta,
-                    };
-                    match crate::kinematics::inverse(&self.cfg.machine, &end, Elbow::Auto) {
-                        Ok(q) => {
-                            found = Some((end, q));
-                            break 'search;
-                        }
-                        Err(e) => last_error = e,
+        });
+        for dz in [
+            0.0, -5.0, 5.0, -10.0, 10.0, -15.0, 15.0, -20.0, 20.0, -25.0, 25.0,
+        ] {
+            let zeta = zeta_s + deg(dz);
+            if zeta < r.start_zeta[0] || zeta > r.start_zeta[1] {
+                continue;
+            }
+            let pose = Pose {
+                x: x_s - base_x,
+                y: y_s,
+                zeta,
+            };
+            match crate::kinematics::inverse(&self.cfg.machine, &pose, Elbow::Auto) {
+                Ok(q) => {
+                    start = Ok((pose, q));
+                    break;
+                }
+                Err(e) => start = Err(e),
+            }
+        }
+        let (start, start_q) = start.map_err(pose_error)?;
+        // The end pose: the wanted one if the arm reaches it, else a higher
+        // end or another attitude in range.
+        let mut end = Err(Error::Unreachable {
+            x: x_e - base_x,
+            y: y_e,
+        });
+        'search: for y in [y_e, y_s + lift_hi] {
+            for dz in [0.0, -10.0, 10.0, -20.0, 20.0] {
+                let pose = Pose {
+                    x: x_e - base_x,
+                    y,
+                    zeta: (s.end_zeta + deg(dz)).clamp(r.end_zeta[0], r.end_zeta[1]),
+                };
+                match crate::kinematics::inverse(&self.cfg.machine, &pose, Elbow::Auto) {
+                    Ok(q) => {
+                        end = Ok((pose, q));
+                        break 'search;
                     }
+                    Err(e) => end = Err(e),
                 }
             }
-            shift += 0.01;
         }
-        let (end, end_q) = found.ok_or(PlanError::Pose {
-            dig: index,
-            kind,
-            error: last_error,
-        })?;
-        let query = DigQuery {
-            start: start_q,
-            end: end_q,
-            surface,
-            kind,
-        };
-        let ground = Ground {
-            terrain: &state.terrain,
-            base_x,
-        };
-        let predicted = predictor
-            .predict(&query, ground)
-            .map_err(|error| PlanError::Predictor { dig: index, error })?;
-        let repaired = repair(
-            &self.cfg,
-            &query.task(),
-            &predicted,
-            ground,
-            &mut state.scratch,
-            Some(&state.guard),
-            &s.repair,
-        )
-        .map_err(|error| PlanError::Dig {
-            dig: index,
-            kind,
-            start,
-            end,
-            error,
-        })?;
-        Ok(PlannedDig {
-            index,
+        let (end, end_q) = end.map_err(pose_error)?;
+        Ok(Candidate {
             kind,
             base_x,
             moved_from,
             start,
             end,
-            query,
-            predicted,
-            params: repaired.params,
-            outcome: repaired.outcome,
-            evaluations: repaired.evaluations,
-            report: repaired.assessment.report,
-            over_dig: repaired.assessment.over_dig,
+            query: DigQuery {
+                start: start_q,
+                end: end_q,
+                surface,
+                kind,
+            },
         })
+    }
+}
+
+/// One candidate dig: where it starts and ends and what the predictor is asked.
+#[derive(Debug, Clone, Copy)]
+struct Candidate {
+    kind: DigType,
+    base_x: f64,
+    moved_from: Option<f64>,
+    start: Pose,
+    end: Pose,
+    query: DigQuery,
+}
+
+impl Candidate {
+    fn ground<'a>(&self, state: &'a PlanState) -> Ground<'a> {
+        Ground {
+            terrain: &state.terrain,
+            base_x: self.base_x,
+        }
+    }
+
+    fn planned(
+        &self,
+        index: usize,
+        predicted: DigParams,
+        params: DigParams,
+        outcome: Outcome,
+        evaluations: usize,
+        a: &Assessment,
+    ) -> PlannedDig {
+        PlannedDig {
+            index,
+            kind: self.kind,
+            base_x: self.base_x,
+            moved_from: self.moved_from,
+            start: self.start,
+            end: self.end,
+            query: self.query,
+            predicted,
+            params,
+            outcome,
+            evaluations,
+            report: a.report,
+            over_dig: a.over_dig,
+        }
+    }
+}
+
+/// Keeps the two candidates with the smallest violation.
+fn keep_least_violating(
+    kept: &mut [Option<(f64, Candidate, DigParams)>; 2],
+    violation: f64,
+    c: Candidate,
+    predicted: DigParams,
+) {
+    if kept[0].as_ref().is_none_or(|k| violation < k.0) {
+        kept[1] = kept[0].take();
+        kept[0] = Some((violation, c, predicted));
+    } else if kept[1].as_ref().is_none_or(|k| violation < k.0) {
+        kept[1] = Some((violation, c, predicted));
     }
 }

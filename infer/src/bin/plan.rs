@@ -177,6 +177,9 @@ fn run(args: Args) -> Result<(), String> {
         m.design_area * 1e4,
         m.max_over_depth * 1e3
     );
+    if let Some(why) = &plan.stopped {
+        println!("stopped with material left: {why}");
+    }
     println!("wrote {} and {}", json.display(), pic.display());
     Ok(())
 }
