@@ -87,6 +87,7 @@ pub fn run_plan<P: DigPredictor + ?Sized>(
                         over_dug: 0.0,
                         max_over_depth: 0.0,
                     },
+                    stopped: Some(e.to_string()),
                     planning_seconds: clock.elapsed().as_secs_f64(),
                 },
                 failure: Some(PlanFailure::of(&e, 0)),
@@ -109,7 +110,9 @@ pub fn run_plan<P: DigPredictor + ?Sized>(
                     seconds,
                 });
             }
-            Ok(None) => break None,
+            // The planner ends with a reason when material is left that no
+            // feasible dig takes: that is a stop too.
+            Ok(None) => break state.stopped().map(|e| PlanFailure::of(e, steps.len() + 1)),
             Err(e) => break Some(PlanFailure::of(&e, steps.len() + 1)),
         }
     };
@@ -120,6 +123,7 @@ pub fn run_plan<P: DigPredictor + ?Sized>(
             design,
             digs,
             metrics: state.metrics(),
+            stopped: failure.as_ref().map(|f| f.message.clone()),
             planning_seconds: clock.elapsed().as_secs_f64(),
         },
         failure,
