@@ -1,0 +1,250 @@
+//! The evaluation on small budgets: consistent rows, the same numbers for
+//! any thread count, and planning failures reported as rows.
+
+use eval::baselines::Baseline;
+use eval::digs::{DigRow, compare_digs};
+use eval::evaluation::{Coverage, EvalSettings, evaluate};
+use eval::networks::Networks;
+use eval::planning::{PlanRun, run_plan};
+use eval::whole::{PlanSummary, plan_with_optimiser};
+use eval::{output, tasks};
+use indicatif::ProgressBar;
+use infer::{Config, DigPredictor, DigQuery, Ground, Planner, PlannerSettings, TrenchTask};
+use std::path::{Path, PathBuf};
+
+fn networks() -> Networks {
+    Networks::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts")).unwrap()
+}
+
+fn planner() -> Planner {
+    Planner::new(&Config::default(), &PlannerSettings::default()).unwrap()
+}
+
+/// Each optimiser at a tiny budget (the source's would take minutes in debug).
+fn tiny() -> Vec<Baseline> {
+    vec![
+        Baseline::new("pso", 6, 3).unwrap(),
+        Baseline::new("gwo", 6, 3).unwrap(),
+        Baseline::new("nsga2", 8, 2).unwrap(),
+    ]
+}
+
+fn plan_a(planner: &Planner, nets: &Networks) -> PlanRun {
+    let task = TrenchTask::reference('A').unwrap();
+    run_plan(planner, &task, &mut nets.pair().unwrap())
+}
+
+/// A row without its timings.
+fn untimed(mut r: DigRow) -> DigRow {
+    r.network.seconds = 0.0;
+    for b in &mut r.baselines {
+        b.figures.seconds = 0.0;
+    }
+    r
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("eval-test-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+#[test]
+fn dig_by_dig_rows_are_consistent() {
+    let (planner, nets) = (planner(), networks());
+    let run = plan_a(&planner, &nets);
+    assert!(!run.steps.is_empty(), "task A plans at least one dig");
+    let rows = compare_digs(&planner, &[("A", &run)], &tiny(), 7, &ProgressBar::hidden());
+    assert_eq!(rows.len(), run.steps.len());
+    for (k, (row, step)) in rows.iter().zip(&run.steps).enumerate() {
+        assert_eq!(row.task, "A");
+        assert_eq!(row.dig, k + 1);
+        assert_eq!(row.kind, step.dig.kind);
+        assert_eq!(row.outcome, step.dig.outcome);
+        // The network's figures are the planned dig's, feasible and within the design.
+        assert_eq!(row.network.objective, step.dig.report.objective);
+        assert_eq!(row.network.y, step.dig.params.to_array());
+        assert!(row.network.feasible && row.network.within_design);
+        assert_eq!(row.network.seconds, step.seconds);
+        let names: Vec<&str> = row.baselines.iter().map(|b| b.method.as_str()).collect();
+        assert_eq!(names, ["pso", "gwo", "nsga2"]);
+        for b in &row.baselines {
+            let f = &b.figures;
+            assert!(f.objective.is_finite() && f.volume_cm3 >= 0.0, "{b:?}");
+            assert!(f.seconds > 0.0);
+            assert!((5.0..=10.0).contains(&f.y[3]), "T within the bounds: {f:?}");
+            assert_eq!(b.objective_ratio, row.network.objective / f.objective);
+            assert_eq!(
+                f.feasible,
+                f.note.is_none(),
+                "a note names the violation: {f:?}"
+            );
+        }
+    }
+    // Table 4 and the CSV hold the same digs.
+    let report_rows: Vec<&DigRow> = rows.iter().collect();
+    let (n, pso, net) = eval::tables::table4_row(&report_rows);
+    let feasible = rows
+        .iter()
+        .filter(|r| r.baseline("pso").unwrap().figures.feasible)
+        .count();
+    assert_eq!(n, feasible);
+    if n > 0 {
+        assert!(pso.iter().chain(&net).all(|v| v.is_finite() && *v > 0.0));
+    }
+}
+
+#[test]
+fn same_numbers_for_any_thread_count() {
+    let (planner, nets) = (planner(), networks());
+    let run = plan_a(&planner, &nets);
+    let cfg = Config::default();
+    let task = tasks::reference_tasks().remove(0);
+    let pso = Baseline::new("pso", 6, 2).unwrap();
+    let go = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let rows: Vec<DigRow> =
+                compare_digs(&planner, &[("A", &run)], &tiny(), 3, &ProgressBar::hidden())
+                    .into_iter()
+                    .map(untimed)
+                    .collect();
+            let whole = plan_with_optimiser(
+                &cfg,
+                &planner,
+                std::slice::from_ref(&task),
+                &pso,
+                3,
+                &ProgressBar::hidden(),
+            )
+            .unwrap();
+            let mut summary = PlanSummary::of(&whole[0].0);
+            summary.planning_seconds = 0.0;
+            (rows, summary, whole[0].1)
+        })
+    };
+    let (one, two) = (go(1), go(2));
+    assert_eq!(one, two);
+    assert!(
+        one.2 >= one.1.digs as u64,
+        "at least one optimisation per dig"
+    );
+}
+
+/// A predictor that cannot answer.
+struct Broken;
+
+impl DigPredictor for Broken {
+    fn predict(&mut self, _: &DigQuery, _: Ground<'_>) -> Result<infer::DigParams, infer::Error> {
+        Err(infer::Error::BadNetwork("broken on purpose"))
+    }
+}
+
+#[test]
+fn planning_failures_are_reported_not_panics() {
+    let planner = planner();
+    let task = TrenchTask::reference('A').unwrap();
+    let run = run_plan(&planner, &task, &mut Broken);
+    let f = run.failure.as_ref().expect("the broken predictor fails");
+    assert_eq!(f.dig, 1);
+    // The planner reports the first of its attempts' errors (a pose, or the predictor's).
+    assert!(f.message.starts_with("dig 1 "), "{}", f.message);
+    let s = PlanSummary::of(&run);
+    assert!(!s.complete && s.digs == 0);
+    assert_eq!(s.failure.as_ref(), Some(f));
+    assert!(
+        (s.under_dug - 1.0).abs() < 1e-3,
+        "nothing dug: {}",
+        s.under_dug
+    );
+    // A task the planner refuses (deeper than it can dig) fails before any dig.
+    let deep = TrenchTask::new_deg(0.6, 0.5, 60.0, 60.0);
+    let run = run_plan(&planner, &deep, &mut Broken);
+    let f = run.failure.clone().expect("too deep");
+    assert_eq!(f.dig, 0);
+    assert!(f.message.contains("bad task"), "{}", f.message);
+    // Nothing to solve again: no rows, no panic.
+    assert!(
+        compare_digs(
+            &planner,
+            &[("deep", &run)],
+            &tiny(),
+            1,
+            &ProgressBar::hidden()
+        )
+        .is_empty()
+    );
+}
+
+/// The whole evaluation on a small set, written to disk: every file, a
+/// line per dig in the CSV, failures named in the report.
+#[test]
+fn small_evaluation_writes_every_report_file() {
+    let settings = EvalSettings {
+        random_tasks: 1,
+        dig_by_dig: Coverage::Reference,
+        baselines: vec![Baseline::new("pso", 6, 2).unwrap()],
+        whole_task: Coverage::Skip,
+        ..EvalSettings::default()
+    };
+    let report = evaluate(&Config::default(), &networks(), &settings, false).unwrap();
+    assert_eq!(report.tasks.len(), 5);
+    assert_eq!(report.tasks[4].name, "R01");
+    assert!(!report.tasks[4].dig_by_dig);
+    assert!(report.digs.iter().all(|r| r.task.len() == 1), "A–D only");
+    assert!(report.limits.iter().any(|l| l.contains("A–D only")));
+    assert_eq!(report.summary.network_infeasible, 0);
+    let dir = temp_dir("small");
+    output::write_report(&dir, &report, "test").unwrap();
+    for f in [
+        "report.md",
+        "report.json",
+        "digs.csv",
+        "tasks.csv",
+        "table4.csv",
+        "whole.csv",
+        "objective_gap.svg",
+        "dig_time.svg",
+        "plans/A.svg",
+        "plans/A.json",
+        "plans/R01.svg",
+    ] {
+        assert!(dir.join(f).is_file(), "{f} written");
+    }
+    let csv = std::fs::read_to_string(dir.join("digs.csv")).unwrap();
+    assert_eq!(csv.lines().count(), report.digs.len() + 1);
+    let tasks_csv = std::fs::read_to_string(dir.join("tasks.csv")).unwrap();
+    assert_eq!(tasks_csv.lines().count(), 6);
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(md.contains("## Goals") && md.contains("Table 4"));
+    for (name, f) in &report.summary.failures {
+        assert!(md.contains(&format!("- {name}: {}", f.message)));
+    }
+    let back: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    assert_eq!(back["digs"].as_array().unwrap().len(), report.digs.len());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bad_input_is_a_typed_error() {
+    let e = Networks::load(Path::new("/nonexistent")).unwrap_err();
+    assert!(e.to_string().contains("network_downward.json"), "{e}");
+    assert!(Baseline::new("simplex", 10, 10).is_err());
+    assert!(Baseline::new("pso", 0, 10).is_err());
+    // Random tasks are reproducible and all valid.
+    let p = planner();
+    let a = tasks::random_tasks(&p, 5, 9, &tasks::RandomRanges::default()).unwrap();
+    let b = tasks::random_tasks(&p, 3, 9, &tasks::RandomRanges::default()).unwrap();
+    assert_eq!(&a[..3], &b[..]);
+    assert!(a.iter().all(|t| p.digs_for(&t.task).is_ok()));
+    // Ranges nothing valid can come from.
+    let impossible = tasks::RandomRanges {
+        depth: [0.5, 0.6],
+        ..Default::default()
+    };
+    assert!(tasks::random_tasks(&p, 1, 1, &impossible).is_err());
+}
