@@ -37,7 +37,7 @@ use crate::predictor::DigPredictor;
 use crate::query::{DigQuery, QueryRanges};
 use crate::repair::{
     Assessment, DesignGuard, Outcome, OverDig, RepairError, RepairSettings, Violation, assess,
-    repair,
+    refine_by, repair,
 };
 use crate::terrain::{CarveBuffer, TERRAIN_CAPACITY, Terrain};
 use crate::trajectory::DigParams;
@@ -72,8 +72,13 @@ pub struct PlannerSettings {
     pub window_fill: f64,
     /// Start points tried, nearer the machine than that x \[m\].
     pub start_offsets: [f64; 3],
-    /// Chords tried, as fractions of each type's chord range.
-    pub chord_fractions: [f64; 3],
+    /// Dig type and chord (as a fraction of the type's chord range) of
+    /// the candidates at each start, in order of preference.
+    pub shapes: [(DigType, f64); 6],
+    /// A feasible candidate scoring at least this ends the search early
+    /// (fewer evaluations per dig, usually a worse profile); `None` tries
+    /// every candidate.
+    pub accept_score: Option<f64>,
     /// Bucket attitude ζ preferred at the start of downward and backward digs \[rad\].
     pub start_zeta: [f64; 2],
     /// Bucket attitude ζ preferred at the end of a dig \[rad\].
@@ -85,11 +90,13 @@ pub struct PlannerSettings {
     /// and a machine move.
     pub weight_over_dig: f64,
     pub weight_objective: f64,
-    /// Bonus per window chord of design surface a dig newly brings to
-    /// within `reach_tolerance`: digging down to the design first leaves
-    /// layers the next digs can still fill a bucket from.
-    pub weight_reach: f64,
-    pub reach_tolerance: f64,
+    /// How far past a candidate's start and end its bucket may still
+    /// collect material \[m\]: a candidate with less than V_min of design
+    /// material within it is not worth repairing.
+    pub repair_reach: f64,
+    /// The refinement that reshapes the best candidate to remove more
+    /// design material (budget 0: digs are used as predicted when feasible).
+    pub fit: RepairSettings,
     pub weight_move: f64,
 }
 
@@ -106,14 +113,25 @@ impl Default for PlannerSettings {
             window_chord: 0.30,
             window_fill: 0.7,
             start_offsets: [0.0, 0.06, 0.12],
-            chord_fractions: [0.0, 0.5, 1.0],
+            shapes: [
+                (DigType::Downward, 0.5),
+                (DigType::Backward, 0.5),
+                (DigType::Downward, 1.0),
+                (DigType::Backward, 1.0),
+                (DigType::Downward, 0.0),
+                (DigType::Backward, 0.0),
+            ],
+            accept_score: None,
             start_zeta: [deg(-85.0), deg(-75.0)],
             end_zeta: deg(160.0),
             start_after_move: 0.95,
             weight_over_dig: 3.0,
             weight_objective: 0.05,
-            weight_reach: 0.0,
-            reach_tolerance: 0.01,
+            repair_reach: 0.08,
+            fit: RepairSettings {
+                budget: 120,
+                ..RepairSettings::default()
+            },
             weight_move: 0.05,
         }
     }
@@ -138,6 +156,15 @@ pub enum PlanError {
         start: Pose,
         end: Pose,
         error: RepairError,
+    },
+    #[error(
+        "dig {dig}: the design material left ({left_cm3:.0} cm³ in all) lies where no dig in the query ranges can fill the bucket to V_min ({min_cm3:.0} cm³)",
+        dig = dig + 1
+    )]
+    TooLittleMaterial {
+        dig: usize,
+        left_cm3: f64,
+        min_cm3: f64,
     },
     #[error("dig {dig} ({kind}): no reachable pose: {error}", dig = dig + 1)]
     Pose {
@@ -353,7 +380,7 @@ impl Planner {
         let index = state.done;
         // The best feasible candidate (score, dig, its buffer) and the least
         // infeasible ones (violation, candidate), for repair.
-        let mut best: Option<(f64, PlannedDig, usize)> = None;
+        let mut best: Option<(f64, PlannedDig, usize, Candidate)> = None;
         let mut worst_kept: [Option<(f64, Candidate, DigParams)>; 2] = [None, None];
         let mut first_error = None;
         let mut cur = 0usize;
@@ -361,94 +388,163 @@ impl Planner {
             .into_iter()
             .flatten()
             .flat_map(|a| s.start_offsets.map(|o| a - o));
-        for x_s in starts {
-            for kind in [DigType::Downward, DigType::Backward] {
+        // Candidates in order of preference; the search stops at the first
+        // feasible one that scores `accept_score`, so a good network costs
+        // one or two evaluations per dig.
+        let mut evaluations = 0;
+        'search: for x_s in starts {
+            for (kind, frac) in s.shapes {
                 let r = s.ranges.of(kind);
-                for frac in s.chord_fractions {
-                    let chord = r.chord[0] + (r.chord[1] - r.chord[0]) * frac;
-                    let c = match self.candidate(state, kind, x_s, chord) {
-                        Ok(c) => c,
-                        Err(e) => {
-                            first_error.get_or_insert(e);
-                            continue;
-                        }
-                    };
-                    let predicted = match predictor.predict(&c.query, c.ground(state)) {
-                        Ok(p) => p,
-                        Err(error) => {
-                            first_error.get_or_insert(PlanError::Predictor { dig: index, error });
-                            continue;
-                        }
-                    };
-                    let (terrain, scratch) = (&state.terrain, &mut state.scratch[cur]);
-                    let Ok(a) = assess(
-                        &self.cfg,
-                        &c.query.task(),
-                        &predicted,
-                        Ground {
-                            terrain,
-                            base_x: c.base_x,
-                        },
-                        scratch,
-                        Some(&state.guard),
-                    ) else {
-                        continue;
-                    };
-                    if !a.feasible {
-                        keep_least_violating(&mut worst_kept, a.violation, c, predicted);
+                let chord = r.chord[0] + (r.chord[1] - r.chord[0]) * frac;
+                let c = match self.candidate(state, kind, x_s, chord) {
+                    Ok(c) => c,
+                    Err(e) => {
+                        first_error.get_or_insert(e);
                         continue;
                     }
-                    let score = self.score(state, cur, &a, &c);
-                    if best.as_ref().is_none_or(|b| score > b.0) {
-                        let dig = c.planned(index, predicted, predicted, Outcome::Predicted, 1, &a);
-                        best = Some((score, dig, cur));
-                        cur = 1 - cur;
+                };
+                let predicted = match predictor.predict(&c.query, c.ground(state)) {
+                    Ok(p) => p,
+                    Err(error) => {
+                        first_error.get_or_insert(PlanError::Predictor { dig: index, error });
+                        continue;
+                    }
+                };
+                evaluations += 1;
+                let (terrain, scratch) = (&state.terrain, &mut state.scratch[cur]);
+                let Ok(a) = assess(
+                    &self.cfg,
+                    &c.query.task(),
+                    &predicted,
+                    Ground {
+                        terrain,
+                        base_x: c.base_x,
+                    },
+                    scratch,
+                    Some(&state.guard),
+                ) else {
+                    continue;
+                };
+                if !a.feasible {
+                    // The least infeasible are kept for repair.
+                    keep_most(&mut worst_kept, -a.violation, c, predicted);
+                    continue;
+                }
+                let score = self.score(
+                    &state.terrain,
+                    &state.design,
+                    &state.scratch[cur],
+                    &a,
+                    c.moved_from.is_some(),
+                );
+                if best.as_ref().is_none_or(|b| score > b.0) {
+                    let dig = c.planned(index, predicted, predicted, Outcome::Predicted, 0, &a);
+                    best = Some((score, dig, cur, c));
+                    cur = 1 - cur;
+                    if s.accept_score.is_some_and(|a| score >= a) {
+                        break 'search;
                     }
                 }
             }
         }
-        // Nothing feasible as predicted: repair the least infeasible candidates.
+        if let Some(b) = best.as_mut() {
+            b.1.evaluations = evaluations;
+        }
+        // Nothing feasible as predicted: repair the least infeasible
+        // candidates by the refinement, towards removing design material.
         if best.is_none() {
+            let b = self.cfg.machine.bucket_width;
+            let v_min = self.cfg.objective.volume[0];
             for (_, c, predicted) in worst_kept.into_iter().flatten() {
+                // No repair can fill the bucket from material that is not
+                // there: design material within reach of the chord (the
+                // bucket's curl reaches past its ends) plus the over-dig
+                // the guard allows.
+                let reach = s.repair_reach;
+                let (lo, hi) = (c.end.x + c.base_x - reach, c.start.x + c.base_x + reach);
+                let there = d.remaining_area(&state.terrain, lo, hi) + state.guard.max_area;
+                if there * b < v_min {
+                    first_error.get_or_insert(PlanError::TooLittleMaterial {
+                        dig: index,
+                        left_cm3: left * 1e6,
+                        min_cm3: v_min * 1e6,
+                    });
+                    continue;
+                }
+                // Time rescaling first: it keeps the predicted path.
+                let rescale_only = RepairSettings {
+                    budget: 0,
+                    ..s.repair
+                };
                 let ground = Ground {
                     terrain: &state.terrain,
                     base_x: c.base_x,
                 };
+                let scratch = &mut state.scratch[cur];
+                let task = c.query.task();
+                let guard = Some(&state.guard);
                 match repair(
                     &self.cfg,
-                    &c.query.task(),
+                    &task,
                     &predicted,
                     ground,
-                    &mut state.scratch[cur],
-                    Some(&state.guard),
-                    &s.repair,
+                    scratch,
+                    guard,
+                    &rescale_only,
                 ) {
-                    Ok(rep) => {
-                        let dig = c.planned(
-                            index,
-                            predicted,
-                            rep.params,
-                            rep.outcome,
-                            rep.evaluations,
-                            &rep.assessment,
-                        );
-                        best = Some((0.0, dig, cur));
+                    Ok(r) => {
+                        let a = &r.assessment;
+                        let moved = c.moved_from.is_some();
+                        let score = self.score(&state.terrain, &state.design, scratch, a, moved);
+                        evaluations += r.evaluations;
+                        let dig = c.planned(index, predicted, r.params, r.outcome, evaluations, a);
+                        best = Some((score, dig, cur, c));
                         break;
                     }
-                    Err(error) => {
-                        // A repair that failed says more than an unreachable pose.
-                        first_error = Some(PlanError::Dig {
-                            dig: index,
-                            kind: c.kind,
-                            start: c.start,
-                            end: c.end,
-                            error,
-                        });
-                    }
+                    Err(RepairError::Infeasible { evaluations: e, .. }) => evaluations += e,
+                    Err(RepairError::Model(_)) => {}
+                }
+                let (score, params, a, used) = self.fit(state, cur, &c, &predicted, &s.repair)?;
+                evaluations += used;
+                if a.feasible {
+                    let dig =
+                        c.planned(index, predicted, params, Outcome::Refined, evaluations, &a);
+                    best = Some((score, dig, cur, c));
+                    break;
+                }
+                // A repair that failed says more than an unreachable pose.
+                if let Some(worst) = a.worst(Some(&state.guard)) {
+                    first_error = Some(PlanError::Dig {
+                        dig: index,
+                        kind: c.kind,
+                        start: c.start,
+                        end: c.end,
+                        error: RepairError::Infeasible {
+                            worst,
+                            best: params,
+                            evaluations,
+                        },
+                    });
                 }
             }
         }
-        let Some((_, dig, buf)) = best else {
+        // Reshape the chosen dig to remove more of the design material.
+        if let Some((score, dig, buf, c)) = best
+            && s.fit.budget > 0
+        {
+            let other = 1 - buf;
+            let (fitted, params, a, used) = self.fit(state, other, &c, &dig.params, &s.fit)?;
+            if a.feasible && fitted > score {
+                let outcome = match dig.outcome {
+                    Outcome::Predicted => Outcome::Fitted,
+                    o => o,
+                };
+                let evaluations = dig.evaluations + used;
+                let dig = c.planned(index, dig.predicted, params, outcome, evaluations, &a);
+                best = Some((fitted, dig, other, c));
+            }
+        }
+        let Some((_, dig, buf, _)) = best else {
             let error = first_error.unwrap_or(PlanError::Pose {
                 dig: index,
                 kind: DigType::Downward,
@@ -540,33 +636,71 @@ impl Planner {
         far_any
     }
 
-    /// How good a feasible candidate is: design material it removes, less
+    /// How good a dig is for the task: design material it removes, less
     /// what it cuts below the design, per V_max of material; the objective
-    /// and a machine move count against it.
-    fn score(&self, state: &PlanState, buf: usize, a: &Assessment, c: &Candidate) -> f64 {
-        let d = &state.design;
-        let t = &state.terrain;
-        let (lo, carved) = state.scratch[buf].window();
+    /// and a machine move count against it. `carve` holds its carving of
+    /// `terrain`.
+    fn score(
+        &self,
+        terrain: &Terrain,
+        design: &DesignProfile,
+        carve: &CarveBuffer,
+        a: &Assessment,
+        moved: bool,
+    ) -> f64 {
+        let t = terrain;
+        let (lo, carved) = carve.window();
+        let removed: f64 = carved
+            .iter()
+            .enumerate()
+            .map(|(k, &new)| {
+                let j = lo + k;
+                let old = t.heights()[j].min(design.ground);
+                (old - new.max(design.height_at(t.x_at(j)))).max(0.0)
+            })
+            .sum();
         let s = &self.settings;
-        let (mut removed, mut reached) = (0.0, 0.0);
-        for (k, &new) in carved.iter().enumerate() {
-            let j = lo + k;
-            let design = d.height_at(t.x_at(j));
-            let old = t.heights()[j].min(d.ground);
-            removed += (old - new.max(design)).max(0.0);
-            if old > design + s.reach_tolerance && new <= design + s.reach_tolerance {
-                reached += 1.0;
-            }
-        }
         let per = self.cfg.objective.volume[1] / self.cfg.machine.bucket_width;
         (removed * t.dx() - s.weight_over_dig * a.over_dig.area) / per
-            + s.weight_reach * reached * t.dx() / s.window_chord
             - s.weight_objective * a.report.objective
-            - if c.moved_from.is_some() {
-                s.weight_move
-            } else {
-                0.0
-            }
+            - if moved { s.weight_move } else { 0.0 }
+    }
+
+    /// Refines `params` (bounded Nelder–Mead, [`refine_by`]) towards the
+    /// highest [`Self::score`] among feasible digs: the result with its
+    /// score, assessment (feasible or not) and the evaluations spent; its
+    /// carving is left in `state.scratch[buf]`.
+    fn fit(
+        &self,
+        state: &mut PlanState,
+        buf: usize,
+        c: &Candidate,
+        params: &DigParams,
+        settings: &RepairSettings,
+    ) -> Result<(f64, DigParams, Assessment, usize), Error> {
+        let design = state.design;
+        let guard = state.guard;
+        let terrain = &state.terrain;
+        let ground = Ground {
+            terrain,
+            base_x: c.base_x,
+        };
+        let task = c.query.task();
+        let moved = c.moved_from.is_some();
+        let scratch = &mut state.scratch[buf];
+        let (best, used) = refine_by(
+            &self.cfg,
+            &task,
+            params,
+            ground,
+            scratch,
+            Some(&guard),
+            settings,
+            |a, carve| -self.score(terrain, &design, carve, a, moved),
+        );
+        let a = assess(&self.cfg, &task, &best, ground, scratch, Some(&guard))?;
+        let score = self.score(terrain, &design, scratch, &a, moved);
+        Ok((score, best, a, used + 1))
     }
 
     /// The dig of `kind` starting on the surface at `x_s` (terrain frame)
@@ -727,17 +861,17 @@ impl Candidate {
     }
 }
 
-/// Keeps the two candidates with the smallest violation.
-fn keep_least_violating(
+/// Keeps the two candidates with the largest `key`.
+fn keep_most(
     kept: &mut [Option<(f64, Candidate, DigParams)>; 2],
-    violation: f64,
+    key: f64,
     c: Candidate,
     predicted: DigParams,
 ) {
-    if kept[0].as_ref().is_none_or(|k| violation < k.0) {
+    if kept[0].as_ref().is_none_or(|k| key > k.0) {
         kept[1] = kept[0].take();
-        kept[0] = Some((violation, c, predicted));
-    } else if kept[1].as_ref().is_none_or(|k| violation < k.0) {
-        kept[1] = Some((violation, c, predicted));
+        kept[0] = Some((key, c, predicted));
+    } else if kept[1].as_ref().is_none_or(|k| key > k.0) {
+        kept[1] = Some((key, c, predicted));
     }
 }

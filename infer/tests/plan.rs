@@ -371,3 +371,30 @@ proptest! {
         }
     }
 }
+
+fn shipped(kind: &str) -> infer::network::NetworkFile {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(format!("../artifacts/network_{kind}.json"));
+    infer::network::NetworkFile::from_json(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// With the shipped networks, tasks A–D are planned without an error, dig
+/// by dig feasible under a fresh exact evaluation, and each plan removes
+/// most of its design area.
+#[test]
+fn shipped_networks_plan_tasks_a_to_d() {
+    let (down, back) = (shipped("downward"), shipped("backward"));
+    let mut pair = infer::NetworkPair {
+        downward: down.network().unwrap(),
+        backward: back.network().unwrap(),
+    };
+    let cfg = Config::default();
+    let planner = Planner::new(&cfg, &PlannerSettings::default()).unwrap();
+    for name in ['A', 'B', 'C', 'D'] {
+        let task = TrenchTask::reference(name).unwrap();
+        let plan = planner.plan(&task, &mut pair).unwrap();
+        assert!(plan.digs.len() >= 2, "task {name}: {} digs", plan.digs.len());
+        assert!(plan.metrics.under_dug < 0.5, "task {name}: {:?}", plan.metrics);
+        check_plan(&planner, &task, &mut pair);
+    }
+}
