@@ -345,6 +345,27 @@ fn the_per_dig_step_does_not_allocate() {
     assert!(steps >= 2);
 }
 
+/// Rollouts play the task out on the state's own spare surface: no heap either.
+#[test]
+fn rollouts_do_not_allocate() {
+    let cfg = Config::default();
+    let settings = PlannerSettings {
+        rollouts: 3,
+        ..fast_settings()
+    };
+    let planner = Planner::new(&cfg, &settings).unwrap();
+    let mut pred = Fixed(REFERENCE_Y);
+    let mut state = planner.start(&TrenchTask::reference('A').unwrap()).unwrap();
+    for dig in 0..infer::planner::MAX_DIGS {
+        let before = allocations();
+        let r = planner.next_dig(&mut state, &mut pred);
+        assert_eq!(allocations(), before, "dig {dig} allocated");
+        if !matches!(r, Ok(Some(_))) {
+            break;
+        }
+    }
+}
+
 #[test]
 fn planned_digs_are_feasible_under_the_exact_model() {
     let cfg = Config::default();
@@ -393,8 +414,16 @@ fn shipped_networks_plan_tasks_a_to_d() {
     for name in ['A', 'B', 'C', 'D'] {
         let task = TrenchTask::reference(name).unwrap();
         let plan = planner.plan(&task, &mut pair).unwrap();
-        assert!(plan.digs.len() >= 2, "task {name}: {} digs", plan.digs.len());
-        assert!(plan.metrics.under_dug < 0.5, "task {name}: {:?}", plan.metrics);
+        assert!(
+            plan.digs.len() >= 2,
+            "task {name}: {} digs",
+            plan.digs.len()
+        );
+        assert!(
+            plan.metrics.under_dug < 0.5,
+            "task {name}: {:?}",
+            plan.metrics
+        );
         check_plan(&planner, &task, &mut pair);
     }
 }
