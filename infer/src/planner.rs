@@ -1,25 +1,29 @@
 //! The continuous trench planner (spec §9): a trenching task becomes a
 //! sequence of digs, each planned on the surface the last one left.
 //!
-//! Each dig is chosen by a small search. The far end of the design
-//! material still left is found on the current surface (digging starts at
-//! the far wall and works towards the machine, as in the source). Start
-//! points at and a little behind it, each dig type and a few chords give
-//! candidate digs whose start and end tooth-tip poses lie inside
-//! [`QueryRanges`] (so a network is asked in-distribution); the
+//! Each dig is chosen by a small search. Candidate starts are anchored at
+//! the far end of the design material still left (skipping a thin wedge
+//! under the far wall; digging starts at the far wall and works towards
+//! the machine, as in the source) and at the lips of the faces earlier digs
+//! left; each start is tried with both dig types and a few chords, in an
+//! order of preference, with start and end tooth-tip poses inside
+//! [`QueryRanges`] (so a network is asked in-distribution). The
 //! [`DigPredictor`] proposes Y for each and the exact model evaluates it on
-//! the real surface with a [`DesignGuard`] that keeps the cut within a small
-//! tolerance of the design profile. The feasible candidate that removes the
-//! most design material (less what it cuts below the design, with the dig
-//! objective as a tie-break) is taken; if none is feasible, the least
-//! infeasible ones are repaired (time rescaling, then a bounded local
-//! refinement), and if that fails too the error names the constraint. The
-//! task ends when the material left would not fill the bucket to V_min.
-//! When a start is nearer to the machine than its type's query range
-//! allows, the machine moves back first (recorded on the dig).
-//!
-//! The accepted dig's carving is committed to the terrain in the
-//! caller-owned [`PlanState`].
+//! the real surface with a [`DesignGuard`] that keeps the cut within a
+//! small tolerance of the design profile. Feasible candidates are scored by
+//! the design material they remove (less what they cut below the design,
+//! with the dig objective as a tie-break). The best is then reshaped by a
+//! bounded refinement seeded by the prediction towards removing more design
+//! material (outcome `Fitted`) if that scores better. Optionally
+//! ([`PlannerSettings::rollouts`]) the best few are compared by playing the
+//! rest of the task out on a spare surface. If no candidate is feasible,
+//! the least infeasible are repaired (time rescaling, then the bounded
+//! refinement); if that fails for the first dig the error names the
+//! constraint, and after it the plan ends there with the reason
+//! ([`PlanState::stopped`]) and the rest counted as under-dug. The task
+//! ends when the material left would not fill the bucket to V_min. When a
+//! start is nearer to the machine than its type's query range allows, the
+//! machine moves back first (recorded on the dig).
 //!
 //! The core API ([`Planner::start`], [`Planner::next_dig`]) uses no heap; the
 //! per-dig step allocates nothing. With `std`, [`Planner::plan`] runs a
@@ -37,7 +41,7 @@ use crate::predictor::DigPredictor;
 use crate::query::{DigQuery, QueryRanges};
 use crate::repair::{
     Assessment, DesignGuard, Outcome, OverDig, RepairError, RepairSettings, Violation, assess,
-    repair,
+    refine_by, repair,
 };
 use crate::terrain::{CarveBuffer, TERRAIN_CAPACITY, Terrain};
 use crate::trajectory::DigParams;
@@ -46,6 +50,8 @@ use serde::{Deserialize, Serialize};
 
 /// Most digs one task may take.
 pub const MAX_DIGS: usize = 64;
+/// Most candidates compared by rollouts per dig.
+pub const MAX_ROLLOUTS: usize = 8;
 
 /// Everything the planner lets a caller tune; the defaults plan tasks A–D.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -72,8 +78,25 @@ pub struct PlannerSettings {
     pub window_fill: f64,
     /// Start points tried, nearer the machine than that x \[m\].
     pub start_offsets: [f64; 3],
-    /// Chords tried, as fractions of each type's chord range.
-    pub chord_fractions: [f64; 3],
+    /// Dig type and chord (as a fraction of the type's chord range) of
+    /// the candidates at each start, in order of preference.
+    pub shapes: [(DigType, f64); 6],
+    /// A feasible candidate scoring at least this ends the search early
+    /// (fewer evaluations per dig, usually a worse profile); `None` tries
+    /// every candidate.
+    pub accept_score: Option<f64>,
+    /// How many of the best candidates are compared by playing the rest
+    /// of the task out (rollouts; at most [`MAX_ROLLOUTS`], 1 or 0: none).
+    pub rollouts: usize,
+    /// The quick policy a rollout plays: take the first candidate scoring
+    /// this, repair by time rescaling only, for at most `rollout_depth` digs.
+    pub rollout_accept: f64,
+    pub rollout_depth: usize,
+    /// A rollout's cost per dig, next to the under- and over-dug fractions.
+    pub rollout_per_dig: f64,
+    /// Rollouts play the planner's own search (without rollouts) instead
+    /// of the quick policy: slower, truer.
+    pub rollout_full: bool,
     /// Bucket attitude ζ preferred at the start of downward and backward digs \[rad\].
     pub start_zeta: [f64; 2],
     /// Bucket attitude ζ preferred at the end of a dig \[rad\].
@@ -85,11 +108,13 @@ pub struct PlannerSettings {
     /// and a machine move.
     pub weight_over_dig: f64,
     pub weight_objective: f64,
-    /// Bonus per window chord of design surface a dig newly brings to
-    /// within `reach_tolerance`: digging down to the design first leaves
-    /// layers the next digs can still fill a bucket from.
-    pub weight_reach: f64,
-    pub reach_tolerance: f64,
+    /// How far past a candidate's start and end its bucket may still
+    /// collect material \[m\]: a candidate with less than V_min of design
+    /// material within it is not worth repairing.
+    pub repair_reach: f64,
+    /// The refinement that reshapes the best candidate to remove more
+    /// design material (budget 0: digs are used as predicted when feasible).
+    pub fit: RepairSettings,
     pub weight_move: f64,
 }
 
@@ -106,14 +131,30 @@ impl Default for PlannerSettings {
             window_chord: 0.30,
             window_fill: 0.7,
             start_offsets: [0.0, 0.06, 0.12],
-            chord_fractions: [0.0, 0.5, 1.0],
+            shapes: [
+                (DigType::Downward, 0.5),
+                (DigType::Backward, 0.5),
+                (DigType::Downward, 1.0),
+                (DigType::Backward, 1.0),
+                (DigType::Downward, 0.0),
+                (DigType::Backward, 0.0),
+            ],
+            accept_score: None,
+            rollouts: 0,
+            rollout_accept: 0.6,
+            rollout_depth: 8,
+            rollout_per_dig: 0.005,
+            rollout_full: true,
             start_zeta: [deg(-85.0), deg(-75.0)],
             end_zeta: deg(160.0),
             start_after_move: 0.95,
             weight_over_dig: 3.0,
             weight_objective: 0.05,
-            weight_reach: 0.0,
-            reach_tolerance: 0.01,
+            repair_reach: 0.08,
+            fit: RepairSettings {
+                budget: 120,
+                ..RepairSettings::default()
+            },
             weight_move: 0.05,
         }
     }
@@ -138,6 +179,15 @@ pub enum PlanError {
         start: Pose,
         end: Pose,
         error: RepairError,
+    },
+    #[error(
+        "dig {dig}: the design material left ({left_cm3:.0} cm³ in all) lies where no dig in the query ranges can fill the bucket to V_min ({min_cm3:.0} cm³)",
+        dig = dig + 1
+    )]
+    TooLittleMaterial {
+        dig: usize,
+        left_cm3: f64,
+        min_cm3: f64,
     },
     #[error("dig {dig} ({kind}): no reachable pose: {error}", dig = dig + 1)]
     Pose {
@@ -188,32 +238,47 @@ pub struct PlannedDig {
     pub over_dig: OverDig,
 }
 
+/// What a task asks: the design profile and the guard every dig must meet.
+#[derive(Debug, Clone, Copy)]
+struct Target {
+    design: DesignProfile,
+    guard: DesignGuard,
+}
+
+/// What changes as a task is dug: the surface, where the machine stands
+/// and how far the plan has got.
+#[derive(Clone)]
+struct Scene {
+    terrain: Terrain,
+    base_x: f64,
+    done: usize,
+    finished: bool,
+    stopped: Option<PlanError>,
+}
+
 /// The planner's working state for one task: the terrain as dug so far and
 /// where the machine stands. Caller-owned and reusable across tasks.
 #[derive(Clone)]
 pub struct PlanState {
     task: TrenchTask,
-    design: DesignProfile,
-    guard: DesignGuard,
-    terrain: Terrain,
-    /// Two carving buffers: the best candidate's and the one being tried.
-    scratch: [CarveBuffer; 2],
-    base_x: f64,
-    done: usize,
+    target: Target,
     expected: usize,
-    finished: bool,
-    stopped: Option<PlanError>,
+    scene: Scene,
+    /// Where rollouts play the rest of the task out.
+    rollout: Scene,
+    /// Carving of the dig being evaluated (shared by the planner and its rollouts).
+    carve: CarveBuffer,
 }
 
 impl core::fmt::Debug for PlanState {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.debug_struct("PlanState")
             .field("task", &self.task)
-            .field("base_x", &self.base_x)
-            .field("done", &self.done)
+            .field("base_x", &self.scene.base_x)
+            .field("done", &self.scene.done)
             .field("expected", &self.expected)
-            .field("finished", &self.finished)
-            .field("stopped", &self.stopped)
+            .field("finished", &self.scene.finished)
+            .field("stopped", &self.scene.stopped)
             .finish()
     }
 }
@@ -223,33 +288,33 @@ impl PlanState {
         &self.task
     }
     pub fn design(&self) -> &DesignProfile {
-        &self.design
+        &self.target.design
     }
     /// The surface as dug so far (terrain frame).
     pub fn terrain(&self) -> &Terrain {
-        &self.terrain
+        &self.scene.terrain
     }
     /// Boom-foot x in the terrain frame \[m\].
     pub fn base_x(&self) -> f64 {
-        self.base_x
+        self.scene.base_x
     }
     /// Digs planned so far, and the number expected from the volume
     /// (the plan may take more or fewer).
     pub fn progress(&self) -> (usize, usize) {
-        (self.done, self.expected)
+        (self.scene.done, self.expected)
     }
     pub fn is_finished(&self) -> bool {
-        self.finished
+        self.scene.finished
     }
     /// Why the plan ended with design material left that would fill a
     /// bucket: no candidate dig could be made feasible (that material is
     /// reported as under-dug). `None` when the task was dug out.
     pub fn stopped(&self) -> Option<&PlanError> {
-        self.stopped.as_ref()
+        self.scene.stopped.as_ref()
     }
     /// The surface so far against the design profile.
     pub fn metrics(&self) -> ProfileMetrics {
-        self.design.compare(&self.terrain)
+        self.target.design.compare(&self.scene.terrain)
     }
 }
 
@@ -310,21 +375,27 @@ impl Planner {
         let x0 = (design.near_edge - 1.2).min(-0.2);
         let x1 = (design.far_edge + 0.4).max(1.5);
         let terrain = Terrain::flat(x0, x1, self.cfg.terrain_dx, self.cfg.ground_level)?;
-        Ok(PlanState {
-            task: *task,
-            design,
-            guard: DesignGuard {
-                profile: design,
-                max_depth: self.settings.over_dig_depth,
-                max_area: self.settings.over_dig_area * design.area(),
-            },
+        let scene = Scene {
             terrain,
-            scratch: [CarveBuffer::default(), CarveBuffer::default()],
             base_x: 0.0,
             done: 0,
-            expected,
             finished: false,
             stopped: None,
+        };
+        Ok(PlanState {
+            task: *task,
+            target: Target {
+                design,
+                guard: DesignGuard {
+                    profile: design,
+                    max_depth: self.settings.over_dig_depth,
+                    max_area: self.settings.over_dig_area * design.area(),
+                },
+            },
+            expected,
+            rollout: scene.clone(),
+            scene,
+            carve: CarveBuffer::default(),
         })
     }
 
@@ -335,152 +406,307 @@ impl Planner {
         state: &mut PlanState,
         predictor: &mut P,
     ) -> Result<Option<PlannedDig>, PlanError> {
-        if state.finished {
+        let PlanState {
+            target,
+            scene,
+            rollout,
+            carve,
+            ..
+        } = state;
+        self.step(target, scene, carve, Some(rollout), false, predictor)
+    }
+
+    /// One dig on `scene`. With `rollout` (the planner's own step) the
+    /// best candidates are compared by playing the rest of the task out on
+    /// it with the quick policy, and the chosen dig may be refined; without
+    /// (the quick policy itself) the first candidate that scores
+    /// `rollout_accept` is taken and a failed dig is only time-rescaled.
+    fn step<P: DigPredictor + ?Sized>(
+        &self,
+        target: &Target,
+        scene: &mut Scene,
+        carve: &mut CarveBuffer,
+        rollout: Option<&mut Scene>,
+        quick: bool,
+        predictor: &mut P,
+    ) -> Result<Option<PlannedDig>, PlanError> {
+        if scene.finished {
             return Ok(None);
         }
+        let s = &self.settings;
+        let d = &target.design;
+        let b = self.cfg.machine.bucket_width;
+        let v_min = self.cfg.objective.volume[0];
         // Stop when what is left would not fill the bucket to V_min: the
         // rest is reported as under-dug rather than dug by an infeasible dig.
-        let s = &self.settings;
-        let d = state.design;
-        let left = d.remaining_area(&state.terrain, d.near_edge, d.far_edge)
-            * self.cfg.machine.bucket_width;
-        let anchors = self.anchors(state);
-        if left < self.cfg.objective.volume[0] || anchors[0].is_none() || state.done >= MAX_DIGS {
-            state.finished = true;
+        let left = d.remaining_area(&scene.terrain, d.near_edge, d.far_edge) * b;
+        let anchors = self.anchors(target, scene);
+        if left < v_min || anchors[0].is_none() || scene.done >= MAX_DIGS {
+            scene.finished = true;
             return Ok(None);
         }
-        let far = anchors[0].unwrap_or(d.far_edge);
-        let index = state.done;
-        // The best feasible candidate (score, dig, its buffer) and the least
-        // infeasible ones (violation, candidate), for repair.
-        let mut best: Option<(f64, PlannedDig, usize)> = None;
-        let mut worst_kept: [Option<(f64, Candidate, DigParams)>; 2] = [None, None];
+        let full = !quick;
+        let accept = if full {
+            s.accept_score
+        } else {
+            Some(s.rollout_accept)
+        };
+        let index = scene.done;
+        // The best feasible candidates, best first, and the least
+        // infeasible ones, for repair.
+        let mut top: [Option<Scored>; MAX_ROLLOUTS] = [None; MAX_ROLLOUTS];
+        let keep = if rollout.is_some() {
+            s.rollouts.clamp(1, MAX_ROLLOUTS)
+        } else {
+            1
+        };
+        let mut worst_kept: [Option<Scored>; 2] = [None; 2];
         let mut first_error = None;
-        let mut cur = 0usize;
+        let mut evaluations = 0;
         let starts = anchors
             .into_iter()
             .flatten()
             .flat_map(|a| s.start_offsets.map(|o| a - o));
-        for x_s in starts {
-            for kind in [DigType::Downward, DigType::Backward] {
+        // Candidates in order of preference.
+        'search: for x_s in starts {
+            for (kind, frac) in s.shapes {
                 let r = s.ranges.of(kind);
-                for frac in s.chord_fractions {
-                    let chord = r.chord[0] + (r.chord[1] - r.chord[0]) * frac;
-                    let c = match self.candidate(state, kind, x_s, chord) {
-                        Ok(c) => c,
-                        Err(e) => {
-                            first_error.get_or_insert(e);
-                            continue;
-                        }
-                    };
-                    let predicted = match predictor.predict(&c.query, c.ground(state)) {
-                        Ok(p) => p,
-                        Err(error) => {
-                            first_error.get_or_insert(PlanError::Predictor { dig: index, error });
-                            continue;
-                        }
-                    };
-                    let (terrain, scratch) = (&state.terrain, &mut state.scratch[cur]);
-                    let Ok(a) = assess(
-                        &self.cfg,
-                        &c.query.task(),
-                        &predicted,
-                        Ground {
-                            terrain,
-                            base_x: c.base_x,
-                        },
-                        scratch,
-                        Some(&state.guard),
-                    ) else {
-                        continue;
-                    };
-                    if !a.feasible {
-                        keep_least_violating(&mut worst_kept, a.violation, c, predicted);
+                let chord = r.chord[0] + (r.chord[1] - r.chord[0]) * frac;
+                let c = match self.candidate(target, scene, kind, x_s, chord) {
+                    Ok(c) => c,
+                    Err(e) => {
+                        first_error.get_or_insert(e);
                         continue;
                     }
-                    let score = self.score(state, cur, &a, &c);
-                    if best.as_ref().is_none_or(|b| score > b.0) {
-                        let dig = c.planned(index, predicted, predicted, Outcome::Predicted, 1, &a);
-                        best = Some((score, dig, cur));
-                        cur = 1 - cur;
-                    }
-                }
-            }
-        }
-        // Nothing feasible as predicted: repair the least infeasible candidates.
-        if best.is_none() {
-            for (_, c, predicted) in worst_kept.into_iter().flatten() {
-                let ground = Ground {
-                    terrain: &state.terrain,
-                    base_x: c.base_x,
                 };
-                match repair(
+                let ground = c.ground(&scene.terrain);
+                let predicted = match predictor.predict(&c.query, ground) {
+                    Ok(p) => p,
+                    Err(error) => {
+                        first_error.get_or_insert(PlanError::Predictor { dig: index, error });
+                        continue;
+                    }
+                };
+                evaluations += 1;
+                let task = c.query.task();
+                let Ok(a) = assess(
                     &self.cfg,
-                    &c.query.task(),
+                    &task,
                     &predicted,
                     ground,
-                    &mut state.scratch[cur],
-                    Some(&state.guard),
-                    &s.repair,
-                ) {
-                    Ok(rep) => {
-                        let dig = c.planned(
-                            index,
-                            predicted,
-                            rep.params,
-                            rep.outcome,
-                            rep.evaluations,
-                            &rep.assessment,
-                        );
-                        best = Some((0.0, dig, cur));
-                        break;
-                    }
-                    Err(error) => {
-                        // A repair that failed says more than an unreachable pose.
-                        first_error = Some(PlanError::Dig {
-                            dig: index,
-                            kind: c.kind,
-                            start: c.start,
-                            end: c.end,
-                            error,
-                        });
-                    }
+                    carve,
+                    Some(&target.guard),
+                ) else {
+                    continue;
+                };
+                if !a.feasible {
+                    keep_best(&mut worst_kept, 2, Scored::new(-a.violation, c, predicted));
+                    continue;
+                }
+                let moved = c.moved_from.is_some();
+                let score = self.score(&scene.terrain, d, carve, &a, moved);
+                keep_best(&mut top, keep, Scored::new(score, c, predicted));
+                if accept.is_some_and(|t| score >= t) {
+                    break 'search;
                 }
             }
         }
-        let Some((_, dig, buf)) = best else {
-            let error = first_error.unwrap_or(PlanError::Pose {
+        // Each of the best candidates is refined towards removing more
+        // design material (kept if it scores better); with rollouts, the
+        // one whose rest of the task plays out best is chosen.
+        let mut chosen = None;
+        let mut chosen_outcome = f64::INFINITY;
+        let mut rollout = rollout;
+        let compare = rollout.is_some() && top[1].is_some();
+        for t in top.iter().flatten() {
+            let mut t = *t;
+            if full && s.fit.budget > 0 {
+                let (score, params, a, used) =
+                    self.fit(target, scene, carve, &t.candidate, &t.params, &s.fit)?;
+                evaluations += used;
+                if a.feasible && score > t.score {
+                    t.score = score;
+                    t.params = params;
+                    t.outcome = Outcome::Fitted;
+                }
+            }
+            let Some(roll) = rollout.as_deref_mut().filter(|_| compare) else {
+                chosen = Some(t);
+                break;
+            };
+            let outcome = self.play_out(target, scene, roll, carve, &t, predictor);
+            if chosen.is_none() || outcome < chosen_outcome {
+                chosen = Some(t);
+                chosen_outcome = outcome;
+            }
+        }
+        // Nothing feasible as predicted: repair the least infeasible
+        // candidates (time rescaling, then the refinement towards removing
+        // design material).
+        if chosen.is_none() {
+            for w in worst_kept.iter().flatten() {
+                let c = &w.candidate;
+                // No repair can fill the bucket from material that is not
+                // there: design material within reach of the chord (the
+                // bucket's curl reaches past its ends) plus the over-dig
+                // the guard allows.
+                let reach = s.repair_reach;
+                let (lo, hi) = (c.end.x + c.base_x - reach, c.start.x + c.base_x + reach);
+                let there = d.remaining_area(&scene.terrain, lo, hi) + target.guard.max_area;
+                if there * b < v_min {
+                    first_error.get_or_insert(PlanError::TooLittleMaterial {
+                        dig: index,
+                        left_cm3: left * 1e6,
+                        min_cm3: v_min * 1e6,
+                    });
+                    continue;
+                }
+                let rescale_only = RepairSettings {
+                    budget: 0,
+                    ..s.repair
+                };
+                let ground = c.ground(&scene.terrain);
+                let task = c.query.task();
+                let guard = Some(&target.guard);
+                match repair(
+                    &self.cfg,
+                    &task,
+                    &w.predicted,
+                    ground,
+                    carve,
+                    guard,
+                    &rescale_only,
+                ) {
+                    Ok(r) => {
+                        evaluations += r.evaluations;
+                        let mut t = Scored::new(0.0, *c, w.predicted);
+                        t.params = r.params;
+                        t.outcome = r.outcome;
+                        chosen = Some(t);
+                        break;
+                    }
+                    Err(RepairError::Infeasible { evaluations: e, .. }) => evaluations += e,
+                    Err(RepairError::Model(_)) => {}
+                }
+                if !full {
+                    continue;
+                }
+                let (score, params, a, used) =
+                    self.fit(target, scene, carve, c, &w.predicted, &s.repair)?;
+                evaluations += used;
+                if a.feasible {
+                    let mut t = Scored::new(score, *c, w.predicted);
+                    t.params = params;
+                    t.outcome = Outcome::Refined;
+                    chosen = Some(t);
+                    break;
+                }
+                // A repair that failed says more than an unreachable pose.
+                if let Some(worst) = a.worst(guard) {
+                    first_error = Some(PlanError::Dig {
+                        dig: index,
+                        kind: c.kind,
+                        start: c.start,
+                        end: c.end,
+                        error: RepairError::Infeasible {
+                            worst,
+                            best: params,
+                            evaluations,
+                        },
+                    });
+                }
+            }
+        }
+        let Some(t) = chosen else {
+            let error = first_error.unwrap_or(PlanError::TooLittleMaterial {
                 dig: index,
-                kind: DigType::Downward,
-                error: Error::Unreachable {
-                    x: far - state.base_x,
-                    y: state.terrain.height_at(far).unwrap_or(d.ground),
-                },
+                left_cm3: left * 1e6,
+                min_cm3: v_min * 1e6,
             });
             // After the first dig, the plan so far stands (every dig in it is
             // feasible) and what is left is reported as under-dug, with why.
             if index == 0 {
                 return Err(error);
             }
-            state.finished = true;
-            state.stopped = Some(error);
+            scene.finished = true;
+            scene.stopped = Some(error);
             return Ok(None);
         };
-        state.terrain.commit(&state.scratch[buf]);
-        state.base_x = dig.base_x;
-        state.done += 1;
-        Ok(Some(dig))
+        // Carve the chosen dig (one evaluation: its carving is not kept
+        // while candidates and rollouts use the buffers).
+        let ground = t.candidate.ground(&scene.terrain);
+        let a = assess(
+            &self.cfg,
+            &t.candidate.query.task(),
+            &t.params,
+            ground,
+            carve,
+            Some(&target.guard),
+        )?;
+        evaluations += 1;
+        scene.terrain.commit(carve);
+        scene.base_x = t.candidate.base_x;
+        scene.done += 1;
+        Ok(Some(t.candidate.planned(
+            index,
+            t.predicted,
+            t.params,
+            t.outcome,
+            evaluations,
+            &a,
+        )))
+    }
+
+    /// Plays the rest of the task out on `roll` after `dig`, with the quick
+    /// policy: the fraction of the design area left under- and over-dug
+    /// (less is better), with a little per dig.
+    fn play_out<P: DigPredictor + ?Sized>(
+        &self,
+        target: &Target,
+        scene: &Scene,
+        roll: &mut Scene,
+        carve: &mut CarveBuffer,
+        dig: &Scored,
+        predictor: &mut P,
+    ) -> f64 {
+        roll.clone_from(scene);
+        let ground = dig.candidate.ground(&roll.terrain);
+        let task = dig.candidate.query.task();
+        if assess(
+            &self.cfg,
+            &task,
+            &dig.params,
+            ground,
+            carve,
+            Some(&target.guard),
+        )
+        .is_err()
+        {
+            return f64::INFINITY;
+        }
+        roll.terrain.commit(carve);
+        roll.base_x = dig.candidate.base_x;
+        roll.done += 1;
+        let quick = !self.settings.rollout_full;
+        for _ in 0..self.settings.rollout_depth {
+            match self.step(target, roll, carve, None, quick, predictor) {
+                Ok(Some(_)) => {}
+                _ => break,
+            }
+        }
+        let m = target.design.compare(&roll.terrain);
+        m.under_dug + m.over_dug + self.settings.rollout_per_dig * roll.done as f64
     }
 
     /// Where the next dig's candidate starts are anchored: the far end of
     /// the material (see [`Self::far_material`]), and the far ends of the
     /// next two stretches of untouched ground nearer the machine (the lips
     /// of the faces earlier digs left).
-    fn anchors(&self, state: &PlanState) -> [Option<f64>; 3] {
-        let mut out = [self.far_material(state), None, None];
+    fn anchors(&self, target: &Target, scene: &Scene) -> [Option<f64>; 3] {
+        let mut out = [self.far_material(target, scene), None, None];
         let Some(far) = out[0] else { return out };
-        let d = &state.design;
-        let t = &state.terrain;
+        let d = &target.design;
+        let t = &scene.terrain;
         let mut k = 1;
         let mut on_ground = false;
         for j in (0..t.len()).rev() {
@@ -505,9 +731,9 @@ impl Planner {
     /// material within one chord nearer the machine to fill much of a
     /// bucket (a thin wedge left under the far wall is skipped), else the
     /// far-most x with any material left; `None` when nothing is left.
-    fn far_material(&self, state: &PlanState) -> Option<f64> {
-        let d = &state.design;
-        let t = &state.terrain;
+    fn far_material(&self, target: &Target, scene: &Scene) -> Option<f64> {
+        let d = &target.design;
+        let t = &scene.terrain;
         let s = &self.settings;
         let window = s.window_chord;
         let wanted = s.window_fill * self.cfg.objective.volume[0] / self.cfg.machine.bucket_width;
@@ -540,54 +766,89 @@ impl Planner {
         far_any
     }
 
-    /// How good a feasible candidate is: design material it removes, less
+    /// How good a dig is for the task: design material it removes, less
     /// what it cuts below the design, per V_max of material; the objective
-    /// and a machine move count against it.
-    fn score(&self, state: &PlanState, buf: usize, a: &Assessment, c: &Candidate) -> f64 {
-        let d = &state.design;
-        let t = &state.terrain;
-        let (lo, carved) = state.scratch[buf].window();
+    /// and a machine move count against it. `carve` holds its carving of
+    /// `terrain`.
+    fn score(
+        &self,
+        terrain: &Terrain,
+        design: &DesignProfile,
+        carve: &CarveBuffer,
+        a: &Assessment,
+        moved: bool,
+    ) -> f64 {
+        let t = terrain;
+        let (lo, carved) = carve.window();
+        let removed: f64 = carved
+            .iter()
+            .enumerate()
+            .map(|(k, &new)| {
+                let j = lo + k;
+                let old = t.heights()[j].min(design.ground);
+                (old - new.max(design.height_at(t.x_at(j)))).max(0.0)
+            })
+            .sum();
         let s = &self.settings;
-        let (mut removed, mut reached) = (0.0, 0.0);
-        for (k, &new) in carved.iter().enumerate() {
-            let j = lo + k;
-            let design = d.height_at(t.x_at(j));
-            let old = t.heights()[j].min(d.ground);
-            removed += (old - new.max(design)).max(0.0);
-            if old > design + s.reach_tolerance && new <= design + s.reach_tolerance {
-                reached += 1.0;
-            }
-        }
         let per = self.cfg.objective.volume[1] / self.cfg.machine.bucket_width;
         (removed * t.dx() - s.weight_over_dig * a.over_dig.area) / per
-            + s.weight_reach * reached * t.dx() / s.window_chord
             - s.weight_objective * a.report.objective
-            - if c.moved_from.is_some() {
-                s.weight_move
-            } else {
-                0.0
-            }
+            - if moved { s.weight_move } else { 0.0 }
+    }
+
+    /// Refines `params` (bounded Nelder–Mead, [`refine_by`]) towards the
+    /// highest [`Self::score`] among feasible digs: the result with its
+    /// score, assessment (feasible or not) and the evaluations spent; its
+    /// carving is left in `carve`.
+    fn fit(
+        &self,
+        target: &Target,
+        scene: &Scene,
+        carve: &mut CarveBuffer,
+        c: &Candidate,
+        params: &DigParams,
+        settings: &RepairSettings,
+    ) -> Result<(f64, DigParams, Assessment, usize), Error> {
+        let (design, guard) = (&target.design, Some(&target.guard));
+        let terrain = &scene.terrain;
+        let ground = c.ground(terrain);
+        let task = c.query.task();
+        let moved = c.moved_from.is_some();
+        let (best, used) = refine_by(
+            &self.cfg,
+            &task,
+            params,
+            ground,
+            carve,
+            guard,
+            settings,
+            |a, carve| -self.score(terrain, design, carve, a, moved),
+        );
+        let a = assess(&self.cfg, &task, &best, ground, carve, guard)?;
+        let score = self.score(terrain, design, carve, &a, moved);
+        Ok((score, best, a, used + 1))
     }
 
     /// The dig of `kind` starting on the surface at `x_s` (terrain frame)
     /// with the given chord: poses, query and where the machine stands.
     fn candidate(
         &self,
-        state: &PlanState,
+        target: &Target,
+        scene: &Scene,
         kind: DigType,
         x_s: f64,
         chord: f64,
     ) -> Result<Candidate, PlanError> {
         let s = &self.settings;
-        let d = &state.design;
+        let d = &target.design;
         let r = s.ranges.of(kind);
-        let index = state.done;
-        let height = |x: f64| state.terrain.height_at(x).unwrap_or(d.ground);
+        let index = scene.done;
+        let height = |x: f64| scene.terrain.height_at(x).unwrap_or(d.ground);
         let y_s = height(x_s);
         let x_e = x_s - chord;
         // The machine moves back when the start is too near to it; a start
         // beyond the range is not tried.
-        let mut base_x = state.base_x;
+        let mut base_x = scene.base_x;
         let mut moved_from = None;
         if x_s - base_x < r.start_x[0] {
             moved_from = Some(base_x);
@@ -693,9 +954,9 @@ struct Candidate {
 }
 
 impl Candidate {
-    fn ground<'a>(&self, state: &'a PlanState) -> Ground<'a> {
+    fn ground<'a>(&self, terrain: &'a Terrain) -> Ground<'a> {
         Ground {
-            terrain: &state.terrain,
+            terrain,
             base_x: self.base_x,
         }
     }
@@ -727,17 +988,37 @@ impl Candidate {
     }
 }
 
-/// Keeps the two candidates with the smallest violation.
-fn keep_least_violating(
-    kept: &mut [Option<(f64, Candidate, DigParams)>; 2],
-    violation: f64,
-    c: Candidate,
+/// A candidate dig with its prediction, the dig as it stands (the
+/// prediction, or its repair or refinement) and how it scored.
+#[derive(Debug, Clone, Copy)]
+struct Scored {
+    score: f64,
+    candidate: Candidate,
     predicted: DigParams,
-) {
-    if kept[0].as_ref().is_none_or(|k| violation < k.0) {
-        kept[1] = kept[0].take();
-        kept[0] = Some((violation, c, predicted));
-    } else if kept[1].as_ref().is_none_or(|k| violation < k.0) {
-        kept[1] = Some((violation, c, predicted));
+    params: DigParams,
+    outcome: Outcome,
+}
+
+impl Scored {
+    fn new(score: f64, candidate: Candidate, predicted: DigParams) -> Self {
+        Scored {
+            score,
+            candidate,
+            predicted,
+            params: predicted,
+            outcome: Outcome::Predicted,
+        }
     }
+}
+
+/// Inserts `new` into `kept` (best score first) if it is among the best `n`.
+fn keep_best<const K: usize>(kept: &mut [Option<Scored>; K], n: usize, new: Scored) {
+    let n = n.min(K);
+    let Some(at) = (0..n).find(|&i| kept[i].is_none_or(|k| new.score > k.score)) else {
+        return;
+    };
+    for i in (at + 1..n).rev() {
+        kept[i] = kept[i - 1];
+    }
+    kept[at] = Some(new);
 }

@@ -41,6 +41,9 @@ pub enum Outcome {
     Rescaled,
     /// The bounded local refinement made it feasible.
     Refined,
+    /// Feasible as predicted, then reshaped by the trench planner's bounded
+    /// refinement to remove more of the design material.
+    Fitted,
 }
 
 /// The constraint a dig must also meet inside a trench: the new cut may go
@@ -393,6 +396,26 @@ pub fn refine(
     guard: Option<&DesignGuard>,
     settings: &RepairSettings,
 ) -> (DigParams, usize) {
+    refine_by(cfg, task, seed, ground, scratch, guard, settings, |a, _| {
+        a.report.objective
+    })
+}
+
+/// [`refine`] with another score to minimise than the dig objective:
+/// `score` sees each candidate's assessment and its carving (in the
+/// scratch buffer), so a caller can ask for more than a good single dig
+/// (the trench planner asks for design material removed).
+#[allow(clippy::too_many_arguments)]
+pub fn refine_by(
+    cfg: &Config,
+    task: &DigTask,
+    seed: &DigParams,
+    ground: Ground<'_>,
+    scratch: &mut CarveBuffer,
+    guard: Option<&DesignGuard>,
+    settings: &RepairSettings,
+    mut score: impl FnMut(&Assessment, &CarveBuffer) -> f64,
+) -> (DigParams, usize) {
     let budget = settings.budget;
     if budget == 0 {
         return (*seed, 0);
@@ -405,13 +428,10 @@ pub fn refine(
         let p = decode(cfg, z);
         match assess(cfg, task, &p, ground, scratch, guard) {
             Ok(a) => {
-                let c = a.report.objective + settings.penalty * a.violation;
-                if a.feasible
-                    && best_feasible
-                        .get()
-                        .is_none_or(|(o, _)| a.report.objective < o)
-                {
-                    best_feasible.set(Some((a.report.objective, *z)));
+                let v = score(&a, scratch);
+                let c = v + settings.penalty * a.violation;
+                if a.feasible && best_feasible.get().is_none_or(|(o, _)| v < o) {
+                    best_feasible.set(Some((v, *z)));
                 }
                 if c.is_finite() { c } else { REJECTED }
             }

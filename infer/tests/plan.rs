@@ -345,6 +345,27 @@ fn the_per_dig_step_does_not_allocate() {
     assert!(steps >= 2);
 }
 
+/// Rollouts play the task out on the state's own spare surface: no heap either.
+#[test]
+fn rollouts_do_not_allocate() {
+    let cfg = Config::default();
+    let settings = PlannerSettings {
+        rollouts: 3,
+        ..fast_settings()
+    };
+    let planner = Planner::new(&cfg, &settings).unwrap();
+    let mut pred = Fixed(REFERENCE_Y);
+    let mut state = planner.start(&TrenchTask::reference('A').unwrap()).unwrap();
+    for dig in 0..infer::planner::MAX_DIGS {
+        let before = allocations();
+        let r = planner.next_dig(&mut state, &mut pred);
+        assert_eq!(allocations(), before, "dig {dig} allocated");
+        if !matches!(r, Ok(Some(_))) {
+            break;
+        }
+    }
+}
+
 #[test]
 fn planned_digs_are_feasible_under_the_exact_model() {
     let cfg = Config::default();
@@ -369,5 +390,40 @@ proptest! {
             let mut pred = RefinePredictor::new(&cfg, 30).unwrap();
             check_plan(&planner, &task, &mut pred);
         }
+    }
+}
+
+fn shipped(kind: &str) -> infer::network::NetworkFile {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(format!("../artifacts/network_{kind}.json"));
+    infer::network::NetworkFile::from_json(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// With the shipped networks, tasks A–D are planned without an error, dig
+/// by dig feasible under a fresh exact evaluation, and each plan removes
+/// most of its design area.
+#[test]
+fn shipped_networks_plan_tasks_a_to_d() {
+    let (down, back) = (shipped("downward"), shipped("backward"));
+    let mut pair = infer::NetworkPair {
+        downward: down.network().unwrap(),
+        backward: back.network().unwrap(),
+    };
+    let cfg = Config::default();
+    let planner = Planner::new(&cfg, &PlannerSettings::default()).unwrap();
+    for name in ['A', 'B', 'C', 'D'] {
+        let task = TrenchTask::reference(name).unwrap();
+        let plan = planner.plan(&task, &mut pair).unwrap();
+        assert!(
+            plan.digs.len() >= 2,
+            "task {name}: {} digs",
+            plan.digs.len()
+        );
+        assert!(
+            plan.metrics.under_dug < 0.5,
+            "task {name}: {:?}",
+            plan.metrics
+        );
+        check_plan(&planner, &task, &mut pair);
     }
 }

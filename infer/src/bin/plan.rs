@@ -50,6 +50,9 @@ struct Args {
     /// Model parameters as JSON (any field left out keeps its default).
     #[arg(long)]
     config: Option<PathBuf>,
+    /// Planner settings as JSON (any field left out keeps its default).
+    #[arg(long)]
+    settings: Option<PathBuf>,
 }
 
 /// A task file, angles in degrees.
@@ -127,7 +130,15 @@ fn run(args: Args) -> Result<(), String> {
     };
     cfg.validate().map_err(|e| e.to_string())?;
     let (task, title) = read_task(&args)?;
-    let planner = Planner::new(&cfg, &PlannerSettings::default()).map_err(|e| e.to_string())?;
+    let settings: PlannerSettings = match &args.settings {
+        Some(path) => {
+            let text =
+                std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?
+        }
+        None => PlannerSettings::default(),
+    };
+    let planner = Planner::new(&cfg, &settings).map_err(|e| e.to_string())?;
     planner.digs_for(&task).map_err(|e| e.to_string())?;
     let plan: Plan = if args.refine {
         let mut p = RefinePredictor::new(&cfg, 400).map_err(|e| e.to_string())?;
@@ -155,10 +166,11 @@ fn run(args: Args) -> Result<(), String> {
     for r in &plan.digs {
         let d = &r.dig;
         println!(
-            "  dig {} {:8} {:9} V {:6.0} cm³  T {:5.2} s  W_E {:.4} Wh  θ_p {:5.1}°  objective {:.3}{}",
+            "  dig {} {:8} {:9} {:4} evaluations  V {:6.0} cm³  T {:5.2} s  W_E {:.4} Wh  θ_p {:5.1}°  objective {:.3}{}",
             d.index + 1,
             d.kind.name(),
             format!("{:?}", d.outcome).to_lowercase(),
+            d.evaluations,
             d.report.volume * 1e6,
             d.report.duration,
             d.report.energy_wh(),
