@@ -36,10 +36,7 @@ impl PlanFailure {
     fn of(e: &PlanError, next: usize) -> Self {
         let dig = match e {
             PlanError::Task(_) => 0,
-            PlanError::Model(_) => next,
-            PlanError::Predictor { dig, .. }
-            | PlanError::Dig { dig, .. }
-            | PlanError::Pose { dig, .. } => dig + 1,
+            _ => e.dig().map_or(next, |d| d + 1),
         };
         PlanFailure {
             dig,

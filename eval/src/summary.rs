@@ -59,6 +59,7 @@ pub struct Summary {
     pub predicted: usize,
     pub rescaled: usize,
     pub refined: usize,
+    pub fitted: usize,
     /// Network planning time per dig and per task \[s\].
     pub network_dig_seconds: Distribution,
     /// The same for the digs used as predicted, rescaled and refined.
@@ -192,18 +193,24 @@ pub fn summarise(
         predicted: tasks.iter().map(|t| t.network.predicted).sum(),
         rescaled: tasks.iter().map(|t| t.network.rescaled).sum(),
         refined: tasks.iter().map(|t| t.network.refined).sum(),
+        fitted: tasks.iter().map(|t| t.network.fitted).sum(),
         network_dig_seconds,
-        network_dig_seconds_by_outcome: [Outcome::Predicted, Outcome::Rescaled, Outcome::Refined]
-            .into_iter()
-            .map(|o| {
-                let t: Vec<f64> = planned
-                    .iter()
-                    .filter(|s| s.dig.outcome == o)
-                    .map(|s| s.seconds)
-                    .collect();
-                (o, Distribution::of(&t))
-            })
-            .collect(),
+        network_dig_seconds_by_outcome: [
+            Outcome::Predicted,
+            Outcome::Fitted,
+            Outcome::Rescaled,
+            Outcome::Refined,
+        ]
+        .into_iter()
+        .map(|o| {
+            let t: Vec<f64> = planned
+                .iter()
+                .filter(|s| s.dig.outcome == o)
+                .map(|s| s.seconds)
+                .collect();
+            (o, Distribution::of(&t))
+        })
+        .collect(),
         network_task_seconds: Distribution::of(&task_secs),
         baselines,
         speedup_vs_pso: speedup,

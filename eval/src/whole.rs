@@ -39,6 +39,8 @@ pub struct PlanSummary {
     pub predicted: usize,
     pub rescaled: usize,
     pub refined: usize,
+    /// Digs feasible as predicted and then reshaped towards the design.
+    pub fitted: usize,
     /// Digs returned that break a constraint (should be 0).
     pub infeasible: usize,
 }
@@ -68,6 +70,7 @@ impl PlanSummary {
             predicted: count(Outcome::Predicted),
             rescaled: count(Outcome::Rescaled),
             refined: count(Outcome::Refined),
+            fitted: count(Outcome::Fitted),
             infeasible: digs.iter().filter(|d| !d.report.feasible).count(),
         }
     }

@@ -198,6 +198,17 @@ pub enum PlanError {
 }
 
 impl PlanError {
+    /// The 0-based dig the error came at, if it came at a dig.
+    pub fn dig(&self) -> Option<usize> {
+        match self {
+            PlanError::Task(_) | PlanError::Model(_) => None,
+            PlanError::Predictor { dig, .. }
+            | PlanError::Dig { dig, .. }
+            | PlanError::TooLittleMaterial { dig, .. }
+            | PlanError::Pose { dig, .. } => Some(*dig),
+        }
+    }
+
     /// The violated constraint, when the failure is an infeasible dig.
     pub fn violation(&self) -> Option<&Violation> {
         match self {
