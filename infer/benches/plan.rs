@@ -1,59 +1,43 @@
-//! Planning speed (goals on one core: ≤ 100 µs per dig with validation,
-//! ≤ 1 ms per task).
+//! Planning speed with the shipped networks (`artifacts/network_*.json`);
+//! goals on one core: ≤ 100 µs per dig with validation, ≤ 1 ms per task.
 //!
-//! - `dig_network_forward_and_validate`: a 7-70-70-70-4 network with random
-//!   weights (no trained weights exist yet) predicts one dig, and the exact
-//!   model validates it with the design guard.
-//! - `task_X_replayed`: a whole task whose predictor replays the feasible Y of
-//!   a plan made beforehand, i.e. the cost of planning with a network whose
-//!   answers need no repair (pose choice, forward-free validation, carving).
-//! - `task_X_refine_predictor`: the whole task with the slow stand-in
-//!   predictor (a local refinement per dig), for reference.
+//! - `dig_forward_and_validate`: the downward network predicts one dig and
+//!   the exact model validates it with the design guard of task A (the
+//!   unit of work of the planner: every candidate dig costs one).
+//! - `task_X`: a whole task A–D with the default settings (candidate
+//!   search, refinement of the chosen dig towards the design, repair).
+//! - `task_X_quick`: the same with the first good candidate taken and no
+//!   refinement of feasible digs (`accept_score` 0.6, `fit.budget` 0): the
+//!   fast, coarser planner.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use infer::network::{Network, parameter_count};
+use infer::network::NetworkFile;
 use infer::repair::{DesignGuard, assess};
 use infer::{
-    CarveBuffer, Config, DigParams, DigPredictor, DigQuery, DigType, Error, Ground, Planner,
-    PlannerSettings, QueryRanges, RefinePredictor, Terrain, TrenchTask,
+    CarveBuffer, Config, DigParams, DigType, Ground, NetworkPair, Planner, PlannerSettings,
+    QueryRanges, RepairSettings, Terrain, TrenchTask,
 };
 use std::hint::black_box;
 
-fn random_params(widths: &[usize], seed: u64) -> Vec<f64> {
-    let mut s = seed;
-    let mut next = || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
-    let mut p: Vec<f64> = (0..parameter_count(widths)).map(|_| 0.3 * next()).collect();
-    // Normalisation: unit scales, plausible output means.
-    p[..7].fill(0.0);
-    p[7..14].fill(1.0);
-    p[14..18].copy_from_slice(&[0.0, 0.0, 0.0, 7.0]);
-    p[18..22].copy_from_slice(&[1e-6, 1e-6, 1e-6, 0.5]);
-    p
-}
-
-/// Replays a list of Y in order.
-struct Replay {
-    ys: Vec<DigParams>,
-    next: usize,
-}
-impl DigPredictor for Replay {
-    fn predict(&mut self, _: &DigQuery, _: Ground<'_>) -> Result<DigParams, Error> {
-        let y = self.ys[self.next % self.ys.len()];
-        self.next += 1;
-        Ok(y)
-    }
+fn shipped(kind: &str) -> NetworkFile {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(format!("../artifacts/network_{kind}.json"));
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| {
+        panic!(
+            "{}: {e} (the bench needs the shipped networks)",
+            path.display()
+        )
+    });
+    NetworkFile::from_json(&text).unwrap()
 }
 
 fn bench(c: &mut Criterion) {
     let cfg = Config::default();
-    let widths = [7, 70, 70, 70, 4];
-    let params = random_params(&widths, 7);
-    let net = Network::new(&widths, &params).unwrap();
+    let (down, back) = (shipped("downward"), shipped("backward"));
+    let mut pair = NetworkPair {
+        downward: down.network().unwrap(),
+        backward: back.network().unwrap(),
+    };
     let q = QueryRanges::default()
         .query_at(&cfg, DigType::Downward, [1.0, 0.6, 0.5, 0.5, 0.5, 0.5])
         .unwrap();
@@ -62,12 +46,12 @@ fn bench(c: &mut Criterion) {
     let guard = DesignGuard {
         profile: infer::DesignProfile::new(&cfg, &task),
         max_depth: 0.015,
-        max_area: 3e-4,
+        max_area: 7.7e-4,
     };
     let mut buf = CarveBuffer::default();
-    c.bench_function("dig_network_forward_and_validate", |b| {
+    c.bench_function("dig_forward_and_validate", |b| {
         b.iter(|| {
-            let y = net.forward(black_box(&q.input())).unwrap();
+            let y = pair.downward.forward(black_box(&q.input())).unwrap();
             black_box(
                 assess(
                     &cfg,
@@ -85,46 +69,34 @@ fn bench(c: &mut Criterion) {
         })
     });
 
-    let planner = Planner::new(&cfg, &PlannerSettings::default()).unwrap();
-    let mut slow = RefinePredictor::new(&cfg, 400).unwrap();
-    for name in ['A', 'B', 'C', 'D'] {
-        let task = TrenchTask::reference(name).unwrap();
-        // Record a plan's feasible digs (as far as the planner gets).
-        let mut state = planner.start(&task).unwrap();
-        let mut ys = Vec::new();
-        while let Ok(Some(d)) = planner.next_dig(&mut state, &mut slow) {
-            ys.push(d.params);
-        }
-        if ys.is_empty() {
-            continue;
-        }
-        let digs = ys.len();
-        let mut replay = Replay { ys, next: 0 };
-        c.bench_function(&format!("task_{name}_replayed_{digs}_digs"), |b| {
-            b.iter(|| {
-                replay.next = 0;
-                let mut state = planner.start(black_box(&task)).unwrap();
-                let mut n = 0;
-                while let Ok(Some(_)) = planner.next_dig(&mut state, &mut replay) {
-                    n += 1;
-                    if n == digs {
-                        break;
+    let quick = PlannerSettings {
+        accept_score: Some(0.6),
+        fit: RepairSettings {
+            budget: 0,
+            ..RepairSettings::default()
+        },
+        ..PlannerSettings::default()
+    };
+    for (suffix, settings) in [("", PlannerSettings::default()), ("_quick", quick)] {
+        let planner = Planner::new(&cfg, &settings).unwrap();
+        for name in ['A', 'B', 'C', 'D'] {
+            let task = TrenchTask::reference(name).unwrap();
+            c.bench_function(&format!("task_{name}{suffix}"), |b| {
+                b.iter(|| {
+                    let mut state = planner.start(black_box(&task)).unwrap();
+                    while let Ok(Some(d)) = planner.next_dig(&mut state, &mut pair) {
+                        black_box(d);
                     }
-                }
-                black_box(state.metrics())
-            })
-        });
+                    black_box(state.metrics())
+                })
+            });
+        }
     }
-    let mut g = c.benchmark_group("slow");
-    g.sample_size(10);
-    for name in ['A', 'B'] {
-        let task = TrenchTask::reference(name).unwrap();
-        g.bench_function(format!("task_{name}_refine_predictor"), |b| {
-            b.iter(|| black_box(planner.plan(&task, &mut slow).map(|p| p.digs.len()).is_ok()))
-        });
-    }
-    g.finish();
 }
 
-criterion_group!(benches, bench);
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(20);
+    targets = bench
+}
 criterion_main!(benches);
