@@ -181,7 +181,7 @@ pub enum PlanError {
         error: RepairError,
     },
     #[error(
-        "dig {dig}: the design material left ({left_cm3:.0} cm³ in all) lies where no dig in the query ranges can fill the bucket to V_min ({min_cm3:.0} cm³)",
+        "dig {dig}: of the design material left ({left_cm3:.0} cm³ in all), too little lies within reach of any candidate dig to fill the bucket to V_min ({min_cm3:.0} cm³)",
         dig = dig + 1
     )]
     TooLittleMaterial {
@@ -472,7 +472,8 @@ impl Planner {
             1
         };
         let mut worst_kept: [Option<Scored>; 2] = [None; 2];
-        let mut first_error = None;
+        // The most telling reason any candidate failed.
+        let mut why: Option<PlanError> = None;
         let mut evaluations = 0;
         let starts = anchors
             .into_iter()
@@ -486,7 +487,7 @@ impl Planner {
                 let c = match self.candidate(target, scene, kind, x_s, chord) {
                     Ok(c) => c,
                     Err(e) => {
-                        first_error.get_or_insert(e);
+                        keep_telling(&mut why, e);
                         continue;
                     }
                 };
@@ -494,7 +495,7 @@ impl Planner {
                 let predicted = match predictor.predict(&c.query, ground) {
                     Ok(p) => p,
                     Err(error) => {
-                        first_error.get_or_insert(PlanError::Predictor { dig: index, error });
+                        keep_telling(&mut why, PlanError::Predictor { dig: index, error });
                         continue;
                     }
                 };
@@ -565,11 +566,14 @@ impl Planner {
                 let (lo, hi) = (c.end.x + c.base_x - reach, c.start.x + c.base_x + reach);
                 let there = d.remaining_area(&scene.terrain, lo, hi) + target.guard.max_area;
                 if there * b < v_min {
-                    first_error.get_or_insert(PlanError::TooLittleMaterial {
-                        dig: index,
-                        left_cm3: left * 1e6,
-                        min_cm3: v_min * 1e6,
-                    });
+                    keep_telling(
+                        &mut why,
+                        PlanError::TooLittleMaterial {
+                            dig: index,
+                            left_cm3: left * 1e6,
+                            min_cm3: v_min * 1e6,
+                        },
+                    );
                     continue;
                 }
                 let rescale_only = RepairSettings {
@@ -614,22 +618,25 @@ impl Planner {
                 }
                 // A repair that failed says more than an unreachable pose.
                 if let Some(worst) = a.worst(guard) {
-                    first_error = Some(PlanError::Dig {
-                        dig: index,
-                        kind: c.kind,
-                        start: c.start,
-                        end: c.end,
-                        error: RepairError::Infeasible {
-                            worst,
-                            best: params,
-                            evaluations,
+                    keep_telling(
+                        &mut why,
+                        PlanError::Dig {
+                            dig: index,
+                            kind: c.kind,
+                            start: c.start,
+                            end: c.end,
+                            error: RepairError::Infeasible {
+                                worst,
+                                best: params,
+                                evaluations,
+                            },
                         },
-                    });
+                    );
                 }
             }
         }
         let Some(t) = chosen else {
-            let error = first_error.unwrap_or(PlanError::TooLittleMaterial {
+            let error = why.unwrap_or(PlanError::TooLittleMaterial {
                 dig: index,
                 left_cm3: left * 1e6,
                 min_cm3: v_min * 1e6,
@@ -996,6 +1003,21 @@ impl Candidate {
             report: a.report,
             over_dig: a.over_dig,
         }
+    }
+}
+
+/// Keeps in `why` the more telling of two reasons a dig failed: a repair
+/// that failed, then too little material, a predictor error, an
+/// unreachable pose.
+fn keep_telling(why: &mut Option<PlanError>, e: PlanError) {
+    let rank = |e: &PlanError| match e {
+        PlanError::Dig { .. } => 4,
+        PlanError::TooLittleMaterial { .. } => 3,
+        PlanError::Predictor { .. } => 2,
+        _ => 1,
+    };
+    if why.as_ref().is_none_or(|w| rank(&e) > rank(w)) {
+        *why = Some(e);
     }
 }
 
