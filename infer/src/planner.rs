@@ -149,7 +149,7 @@ impl Default for PlannerSettings {
             end_zeta: deg(160.0),
             start_after_move: 0.95,
             weight_over_dig: 3.0,
-            weight_objective: 0.05,
+            weight_objective: 0.3,
             repair_reach: 0.08,
             fit: RepairSettings {
                 budget: 120,
