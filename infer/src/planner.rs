@@ -104,8 +104,7 @@ pub struct PlannerSettings {
     /// Where a dig's start is placed in the machine frame after a move \[m\].
     pub start_after_move: f64,
     /// Score weights of a candidate dig, per V_max of material: cut below
-    /// the design (against design material removed), the dig objective,
-    /// and a machine move.
+    /// the design (against design material removed) and the dig objective.
     pub weight_over_dig: f64,
     pub weight_objective: f64,
     /// How far past a candidate's start and end its bucket may still
@@ -115,7 +114,6 @@ pub struct PlannerSettings {
     /// The refinement that reshapes the best candidate to remove more
     /// design material (budget 0: digs are used as predicted when feasible).
     pub fit: RepairSettings,
-    pub weight_move: f64,
 }
 
 impl Default for PlannerSettings {
@@ -155,7 +153,6 @@ impl Default for PlannerSettings {
                 budget: 120,
                 ..RepairSettings::default()
             },
-            weight_move: 0.05,
         }
     }
 }
@@ -479,47 +476,53 @@ impl Planner {
             .into_iter()
             .flatten()
             .flat_map(|a| s.start_offsets.map(|o| a - o));
-        // Candidates in order of preference.
-        'search: for x_s in starts {
-            for (kind, frac) in s.shapes {
-                let r = s.ranges.of(kind);
-                let chord = r.chord[0] + (r.chord[1] - r.chord[0]) * frac;
-                let c = match self.candidate(target, scene, kind, x_s, chord) {
-                    Ok(c) => c,
-                    Err(e) => {
-                        keep_telling(&mut why, e);
+        // Candidates in order of preference; the machine moves only when no
+        // dig from where it stands is feasible.
+        'search: for moving in [false, true] {
+            if top[0].is_some() {
+                break;
+            }
+            for x_s in starts.clone() {
+                for (kind, frac) in s.shapes {
+                    let r = s.ranges.of(kind);
+                    let chord = r.chord[0] + (r.chord[1] - r.chord[0]) * frac;
+                    let c = match self.candidate(target, scene, kind, x_s, chord) {
+                        Ok(c) if c.moved_from.is_some() == moving => c,
+                        Ok(_) => continue,
+                        Err(e) => {
+                            keep_telling(&mut why, e);
+                            continue;
+                        }
+                    };
+                    let ground = c.ground(&scene.terrain);
+                    let predicted = match predictor.predict(&c.query, ground) {
+                        Ok(p) => p,
+                        Err(error) => {
+                            keep_telling(&mut why, PlanError::Predictor { dig: index, error });
+                            continue;
+                        }
+                    };
+                    evaluations += 1;
+                    let task = c.query.task();
+                    let Ok(a) = assess(
+                        &self.cfg,
+                        &task,
+                        &predicted,
+                        ground,
+                        carve,
+                        Some(&target.guard),
+                    ) else {
+                        continue;
+                    };
+                    if !a.feasible {
+                        keep_best(&mut worst_kept, 2, Scored::new(-a.violation, c, predicted));
                         continue;
                     }
-                };
-                let ground = c.ground(&scene.terrain);
-                let predicted = match predictor.predict(&c.query, ground) {
-                    Ok(p) => p,
-                    Err(error) => {
-                        keep_telling(&mut why, PlanError::Predictor { dig: index, error });
-                        continue;
+                    let score = self.score(&scene.terrain, d, carve, &a);
+                    keep_best(&mut top, keep, Scored::new(score, c, predicted));
+                    if accept.is_some_and(|t| score >= t) {
+                        break 'search;
                     }
-                };
-                evaluations += 1;
-                let task = c.query.task();
-                let Ok(a) = assess(
-                    &self.cfg,
-                    &task,
-                    &predicted,
-                    ground,
-                    carve,
-                    Some(&target.guard),
-                ) else {
-                    continue;
-                };
-                if !a.feasible {
-                    keep_best(&mut worst_kept, 2, Scored::new(-a.violation, c, predicted));
-                    continue;
-                }
-                let moved = c.moved_from.is_some();
-                let score = self.score(&scene.terrain, d, carve, &a, moved);
-                keep_best(&mut top, keep, Scored::new(score, c, predicted));
-                if accept.is_some_and(|t| score >= t) {
-                    break 'search;
                 }
             }
         }
@@ -794,7 +797,6 @@ impl Planner {
         design: &DesignProfile,
         carve: &CarveBuffer,
         a: &Assessment,
-        moved: bool,
     ) -> f64 {
         let t = terrain;
         let (lo, carved) = carve.window();
@@ -811,7 +813,6 @@ impl Planner {
         let per = self.cfg.objective.volume[1] / self.cfg.machine.bucket_width;
         (removed * t.dx() - s.weight_over_dig * a.over_dig.area) / per
             - s.weight_objective * a.report.objective
-            - if moved { s.weight_move } else { 0.0 }
     }
 
     /// Refines `params` (bounded Nelder–Mead, [`refine_by`]) towards the
@@ -831,7 +832,6 @@ impl Planner {
         let terrain = &scene.terrain;
         let ground = c.ground(terrain);
         let task = c.query.task();
-        let moved = c.moved_from.is_some();
         let (best, used) = refine_by(
             &self.cfg,
             &task,
@@ -840,10 +840,10 @@ impl Planner {
             carve,
             guard,
             settings,
-            |a, carve| -self.score(terrain, design, carve, a, moved),
+            |a, carve| -self.score(terrain, design, carve, a),
         );
         let a = assess(&self.cfg, &task, &best, ground, carve, guard)?;
-        let score = self.score(terrain, design, carve, &a, moved);
+        let score = self.score(terrain, design, carve, &a);
         Ok((score, best, a, used + 1))
     }
 
