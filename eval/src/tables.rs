@@ -198,6 +198,7 @@ pub fn tasks_csv(report: &EvalReport) -> String {
         "complete",
         "failure",
         "predicted",
+        "fitted",
         "rescaled",
         "refined",
         "under_dug",
@@ -227,6 +228,7 @@ pub fn tasks_csv(report: &EvalReport) -> String {
                 .as_ref()
                 .map_or(String::new(), |f| f.message.clone()),
             n.predicted.to_string(),
+            n.fitted.to_string(),
             n.rescaled.to_string(),
             n.refined.to_string(),
             format!("{:.4}", n.under_dug),
@@ -279,11 +281,17 @@ pub fn whole_csv(report: &EvalReport) -> String {
         "max_over_depth_mm",
         "plan_seconds",
         "predicted",
+        "fitted",
         "rescaled",
         "refined",
+        "predictor_calls",
     ];
     let rows = report.whole.iter().flat_map(|w| {
-        [("network", &w.network), ("pso_in_loop", &w.optimiser)].map(|(who, s)| {
+        [
+            ("network", &w.network, None),
+            ("pso_in_loop", &w.optimiser, Some(w.optimiser_calls)),
+        ]
+        .map(|(who, s, calls)| {
             vec![
                 w.task.clone(),
                 who.to_string(),
@@ -301,8 +309,10 @@ pub fn whole_csv(report: &EvalReport) -> String {
                 format!("{:.2}", s.max_over_depth_mm),
                 format!("{:.6}", s.planning_seconds),
                 s.predicted.to_string(),
+                s.fitted.to_string(),
                 s.rescaled.to_string(),
                 s.refined.to_string(),
+                calls.map_or(String::new(), |c| c.to_string()),
             ]
         })
     });
@@ -361,12 +371,13 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
     }
     let _ = writeln!(
         out,
-        "{} tasks (A–D and {} random), {} planned to the end by the network planner; {} digs ({} used as predicted, {} rescaled, {} refined).\n",
+        "{} tasks (A–D and {} random), {} planned to the end by the network planner; {} digs ({} used as predicted, {} fitted to the design, {} rescaled, {} refined).\n",
         s.tasks,
         report.settings.random_tasks,
         s.tasks_complete,
         s.network_digs,
         s.predicted,
+        s.fitted,
         s.rescaled,
         s.refined
     );
@@ -430,7 +441,7 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
     let methods = methods(report);
     let _ = write!(
         out,
-        "## Tasks\n\n| task | L, D, β1, β2, far edge | digs | predicted / rescaled / refined | under / over-dug | plan time |"
+        "## Tasks\n\n| task | L, D, β1, β2, far edge | digs | predicted / fitted / rescaled / refined | under / over-dug | plan time |"
     );
     for m in &methods {
         let _ = write!(out, " {} objective |", method_label(m));
@@ -449,11 +460,12 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
         };
         let _ = write!(
             out,
-            "| {} | {} | {} | {} / {} / {} | {} / {} | {} |",
+            "| {} | {} | {} | {} / {} / {} / {} | {} / {} | {} |",
             t.name,
             t.description,
             count,
             n.predicted,
+            n.fitted,
             n.rescaled,
             n.refined,
             pct(n.under_dug),

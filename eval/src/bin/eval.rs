@@ -80,7 +80,7 @@ impl EvalArgs {
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Generate a small dataset, train both networks, plan tasks A–D and random
-    /// tasks with them and compare with the optimisers (about 10 min on 2 cores).
+    /// tasks with them and compare with the optimisers (about 8 min on 2 cores).
     Pipeline {
         /// Use the shipped networks in --networks instead of training (under a minute).
         #[arg(long)]
@@ -95,7 +95,7 @@ enum Command {
         #[arg(long)]
         report: Option<PathBuf>,
         /// PSO-optimised digs per dig type in the dataset.
-        #[arg(long, default_value_t = 600)]
+        #[arg(long, default_value_t = 1000)]
         per_type: u64,
         /// Training budget per dig type [s]; the two types train at the same time.
         #[arg(long, default_value_t = 240.0)]
