@@ -126,6 +126,21 @@ pub fn measure(
         ),
     );
 
+    let proposal = median_time(settings.evaluations, || {
+        if let Ok(y) = pair.predict(&query, ground) {
+            let _ = std::hint::black_box(infer::evaluate(&cfg, &task, &y, ground, &mut scratch));
+        }
+    });
+    fig(
+        "one network dig checked (forward pass + one exact evaluation)",
+        proposal * 1e6,
+        "µs",
+        format!(
+            "median of {} on the reference query: the planner's per-dig cost without placement search or repair",
+            settings.evaluations
+        ),
+    );
+
     // The network planner on tasks A–D.
     let planner = Planner::new(&cfg, &PlannerSettings::default())?;
     let tasks = reference_tasks();
@@ -205,6 +220,12 @@ pub fn measure(
         "ratio of the two medians above (goal ≥ 1,000)".into(),
     );
     fig(
+        "speed-up of one checked network dig over PSO",
+        pso_dig / proposal,
+        "×",
+        "PSO median per dig / forward pass + one exact evaluation".into(),
+    );
+    fig(
         "network mean objective / PSO mean objective",
         obj_net / obj_pso,
         "",
@@ -242,6 +263,8 @@ pub fn markdown(s: &BenchSummary) -> String {
     for f in &s.figures {
         let value = if f.value >= 100.0 {
             format!("{:.0}", f.value)
+        } else if f.value >= 10.0 {
+            format!("{:.1}", f.value)
         } else {
             format!("{:.3}", f.value)
         };
