@@ -150,8 +150,8 @@ fn planning_failures_are_reported_not_panics() {
     let run = run_plan(&planner, &task, &mut Broken);
     let f = run.failure.as_ref().expect("the broken predictor fails");
     assert_eq!(f.dig, 1);
-    // The planner reports the first of its attempts' errors (a pose, or the predictor's).
-    assert!(f.message.starts_with("dig 1 "), "{}", f.message);
+    // The planner names the dig and its most telling reason (here the predictor's).
+    assert!(f.message.starts_with("dig 1"), "{}", f.message);
     let s = PlanSummary::of(&run);
     assert!(!s.complete && s.digs == 0);
     assert_eq!(s.failure.as_ref(), Some(f));
