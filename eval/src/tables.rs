@@ -351,45 +351,12 @@ pub fn goals_markdown(report: &EvalReport) -> String {
     out
 }
 
-/// The full Markdown report.
-pub fn markdown(report: &EvalReport, command: &str) -> String {
+/// The methods table: each optimiser against the network, dig by dig,
+/// with planning times.
+pub fn methods_markdown(report: &EvalReport) -> String {
     let s = &report.summary;
-    let mut out = String::new();
-    let _ = writeln!(out, "# Learned planner against the optimiser baselines\n");
-    let _ = writeln!(
-        out,
-        "Made by `{command}` in {:.0} s on {} (1-minute load average {:.1} at the start, {:.1} at the end). Networks: `{}`. Seed {}.\n",
-        report.elapsed_s,
-        report.machine,
-        report.load_average[0],
-        report.load_average[1],
-        report.networks,
-        report.settings.seed
-    );
-    if !report.limits.is_empty() {
-        let _ = writeln!(out, "**Reduced run:** {}.\n", report.limits.join("; "));
-    }
-    let _ = writeln!(
-        out,
-        "{} tasks (A–D and {} random), {} planned to the end by the network planner; {} digs ({} used as predicted, {} fitted to the design, {} rescaled, {} refined).\n",
-        s.tasks,
-        report.settings.random_tasks,
-        s.tasks_complete,
-        s.network_digs,
-        s.predicted,
-        s.fitted,
-        s.rescaled,
-        s.refined
-    );
-    let _ = writeln!(out, "## Goals\n\n{}", goals_markdown(report));
-    let _ = writeln!(
-        out,
-        "## Per-task averages (like the source's Table 4)\n\nEach dig of the network's plan solved again by PSO 50 × 100 from the same start and end on the same surface; means over the digs where PSO's answer is feasible.\n\n{}",
-        table4_markdown(report)
-    );
-    let _ = writeln!(
-        out,
-        "## Methods, dig by dig\n\nMeans over the digs where the method's answer is feasible; \"within design\": of those, the ones whose cut also stays within the planner's guard on the design profile (the optimisers solve the single-dig problem of spec §6 and do not know the design; the network's digs are held to it).\n\n| method | digs | feasible | mean objective | network's on the same digs | network / method | within design: digs, network / method | per-dig ratio median (p05–p95) | time per dig median (p95) |\n|---|---|---|---|---|---|---|---|---|"
+    let mut out = String::from(
+        "| method | digs | feasible | mean objective | network's on the same digs | network / method | within design: digs, network / method | per-dig ratio median (p05–p95) | time per dig median (p95) |\n|---|---|---|---|---|---|---|---|---|\n",
     );
     let _ = writeln!(
         out,
@@ -433,10 +400,54 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
         .collect();
     let _ = writeln!(
         out,
-        "\nNetwork planning time per dig by how the dig was made (median): {}. Per task: median {}, max {}.\n",
+        "\nNetwork planning time per dig by how the dig was made (median): {}. Per task: median {}, max {}.",
         by.join(", "),
         seconds(s.network_task_seconds.median),
         seconds(s.network_task_seconds.max)
+    );
+    out
+}
+
+/// The full Markdown report.
+pub fn markdown(report: &EvalReport, command: &str) -> String {
+    let s = &report.summary;
+    let mut out = String::new();
+    let _ = writeln!(out, "# Learned planner against the optimiser baselines\n");
+    let _ = writeln!(
+        out,
+        "Made by `{command}` in {:.0} s on {} (1-minute load average {:.1} at the start, {:.1} at the end). Networks: `{}`. Seed {}.\n",
+        report.elapsed_s,
+        report.machine,
+        report.load_average[0],
+        report.load_average[1],
+        report.networks,
+        report.settings.seed
+    );
+    if !report.limits.is_empty() {
+        let _ = writeln!(out, "**Reduced run:** {}.\n", report.limits.join("; "));
+    }
+    let _ = writeln!(
+        out,
+        "{} tasks (A–D and {} random), {} planned to the end by the network planner; {} digs ({} used as predicted, {} fitted to the design, {} rescaled, {} refined).\n",
+        s.tasks,
+        report.settings.random_tasks,
+        s.tasks_complete,
+        s.network_digs,
+        s.predicted,
+        s.fitted,
+        s.rescaled,
+        s.refined
+    );
+    let _ = writeln!(out, "## Goals\n\n{}", goals_markdown(report));
+    let _ = writeln!(
+        out,
+        "## Per-task averages (like the source's Table 4)\n\nEach dig of the network's plan solved again by PSO 50 × 100 from the same start and end on the same surface; means over the digs where PSO's answer is feasible.\n\n{}",
+        table4_markdown(report)
+    );
+    let _ = writeln!(
+        out,
+        "## Methods, dig by dig\n\nMeans over the digs where the method's answer is feasible; \"within design\": of those, the ones whose cut also stays within the planner's guard on the design profile (the optimisers solve the single-dig problem of spec §6 and do not know the design; the network's digs are held to it).\n\n{}",
+        methods_markdown(report)
     );
     let methods = methods(report);
     let _ = write!(
@@ -558,8 +569,9 @@ pub fn console(report: &EvalReport) -> String {
     }
     let _ = writeln!(
         out,
-        "Per-task averages, PSO | network (digs where PSO is feasible):\n\n{}\n{}",
+        "Per-task averages, PSO | network (digs where PSO is feasible):\n\n{}\nDig by dig:\n\n{}\n{}",
         table4_markdown(report),
+        methods_markdown(report),
         goals_markdown(report)
     );
     out
