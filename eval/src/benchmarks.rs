@@ -162,8 +162,8 @@ pub fn measure(
     let digs: usize = first.iter().map(|r| r.steps.len()).sum();
     fig(
         "network planner, per dig",
-        net_dig * 1e6,
-        "µs",
+        net_dig * 1e3,
+        "ms",
         format!(
             "median over {} repetitions of the {digs} digs of tasks A–D (`Planner::next_dig`: placement, forward pass, validation, repair)",
             settings.plan_repeats

@@ -74,7 +74,7 @@ impl Default for EvalSettings {
 
 impl EvalSettings {
     /// The under-a-minute form: the same 24 tasks planned with the network
-    /// and every dig solved again by PSO only; GWO, NSGA-II and the
+    /// and every dig solved again by PSO only (no GWO or NSGA-II); the
     /// whole-task comparison on tasks A–D only.
     pub fn quick() -> Self {
         EvalSettings {

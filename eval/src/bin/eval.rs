@@ -196,7 +196,7 @@ fn run(cli: Cli) -> Result<(), EvalError> {
             });
             if quick {
                 eprintln!(
-                    "quick: the shipped networks in {}; every dig solved again by PSO only; GWO, NSGA-II and whole-task comparison on tasks A–D only",
+                    "quick: the shipped networks in {}; every dig solved again by PSO only (no GWO, no NSGA-II); whole-task comparison on tasks A–D only",
                     s.shipped
                         .as_deref()
                         .map_or(String::new(), |p| p.display().to_string())
