@@ -183,8 +183,8 @@ pub fn digs_csv(report: &EvalReport) -> String {
     csv(&header, rows)
 }
 
-/// Per task: the network plan and the mean objective of each method over
-/// the task's compared digs.
+/// Per task: the network plan, and each method's means of T, V, W_E, the
+/// objective and the planning time over the task's compared digs.
 pub fn tasks_csv(report: &EvalReport) -> String {
     let methods = methods(report);
     let mut header: Vec<String> = [
@@ -210,7 +210,19 @@ pub fn tasks_csv(report: &EvalReport) -> String {
     .iter()
     .map(|s| s.to_string())
     .collect();
-    header.extend(methods.iter().map(|m| format!("{m}_mean_objective")));
+    for m in &methods {
+        for f in [
+            "digs",
+            "feasible",
+            "mean_t_s",
+            "mean_v_cm3",
+            "mean_we_wh",
+            "mean_objective",
+            "mean_seconds",
+        ] {
+            header.push(format!("{m}_{f}"));
+        }
+    }
     let header: Vec<&str> = header.iter().map(String::as_str).collect();
     let rows = report.tasks.iter().map(|t| {
         let n = &t.network;
@@ -238,31 +250,69 @@ pub fn tasks_csv(report: &EvalReport) -> String {
             digs.len().to_string(),
         ];
         for m in &methods {
-            v.push(format!("{:.5}", mean_objective(&digs, m)));
+            let a = method_means(&digs, m);
+            v.extend([
+                a.digs.to_string(),
+                a.feasible.to_string(),
+                format!("{:.4}", a.duration_s),
+                format!("{:.1}", a.volume_cm3),
+                format!("{:.5}", a.energy_wh),
+                format!("{:.5}", a.objective),
+                format!("{:.6e}", a.seconds),
+            ]);
         }
         v
     });
     csv(&header, rows)
 }
 
-/// Mean objective of `method` over `digs` (NaN if none).
-fn mean_objective(digs: &[&DigRow], method: &str) -> f64 {
-    let vals: Vec<f64> = digs
+/// Means of one method over a task's compared digs (those it evaluated).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MethodMeans {
+    pub digs: usize,
+    pub feasible: usize,
+    pub duration_s: f64,
+    pub volume_cm3: f64,
+    pub energy_wh: f64,
+    pub objective: f64,
+    pub seconds: f64,
+}
+
+/// [`MethodMeans`] of `method` ("network" or an optimiser) over `digs`
+/// (NaN means if it evaluated none).
+pub fn method_means(digs: &[&DigRow], method: &str) -> MethodMeans {
+    let figs: Vec<&crate::baselines::DigFigures> = digs
         .iter()
         .filter_map(|r| {
             if method == "network" {
-                Some(r.network.objective)
+                Some(&r.network)
             } else {
-                r.baseline(method).map(|b| b.figures.objective)
+                r.baseline(method).map(|b| &b.figures)
             }
         })
-        .filter(|v| v.is_finite())
+        .filter(|f| f.objective.is_finite())
         .collect();
-    if vals.is_empty() {
-        f64::NAN
-    } else {
-        vals.iter().sum::<f64>() / vals.len() as f64
+    let mean = |g: fn(&crate::baselines::DigFigures) -> f64| {
+        if figs.is_empty() {
+            f64::NAN
+        } else {
+            figs.iter().map(|f| g(f)).sum::<f64>() / figs.len() as f64
+        }
+    };
+    MethodMeans {
+        digs: figs.len(),
+        feasible: figs.iter().filter(|f| f.feasible).count(),
+        duration_s: mean(|f| f.duration_s),
+        volume_cm3: mean(|f| f.volume_cm3),
+        energy_wh: mean(|f| f.energy_wh),
+        objective: mean(|f| f.objective),
+        seconds: mean(|f| f.seconds),
     }
+}
+
+/// Mean objective of `method` over `digs` (NaN if none).
+fn mean_objective(digs: &[&DigRow], method: &str) -> f64 {
+    method_means(digs, method).objective
 }
 
 pub fn whole_csv(report: &EvalReport) -> String {
