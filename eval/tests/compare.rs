@@ -248,3 +248,24 @@ fn bad_input_is_a_typed_error() {
     };
     assert!(tasks::random_tasks(&p, 1, 1, &impossible).is_err());
 }
+
+/// The quick pipeline evaluates the shipped networks and makes nothing else.
+#[test]
+fn quick_pipeline_uses_the_shipped_networks() {
+    use eval::pipeline::{self, PipelineSettings};
+    let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts");
+    let mut s = PipelineSettings::quick(temp_dir("pipeline"), shipped);
+    s.eval = EvalSettings {
+        random_tasks: 0,
+        dig_by_dig: Coverage::Skip,
+        whole_task: Coverage::Skip,
+        ..EvalSettings::quick()
+    };
+    let o = pipeline::run(&s, false).unwrap();
+    assert!(o.dataset.is_none() && o.networks.is_empty());
+    let steps: Vec<&str> = o.steps.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(steps, ["evaluation"]);
+    assert_eq!(o.report.tasks.len(), 4);
+    assert!(o.report.networks.ends_with("artifacts"));
+    assert!(!s.out.exists(), "nothing written to the working folder");
+}

@@ -1,0 +1,71 @@
+//! The `eval` command itself: bad input exits with 2 and says why; a small
+//! comparison prints the tables and writes its report.
+
+use std::path::Path;
+use std::process::Command;
+
+fn eval() -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_eval"));
+    c.current_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join(".."));
+    c
+}
+
+#[test]
+fn bad_input_exits_with_2() {
+    for args in [
+        &["compare", "--networks", "/nonexistent"][..],
+        &["compare", "--optimisers", "pso,simplex"],
+        &["--threads", "0", "compare"],
+        &["pipeline", "--per-type", "0"],
+        &["pipeline", "--train-seconds", "-1"],
+    ] {
+        let out = eval().args(args).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.starts_with("error: "), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn small_comparison_prints_and_writes_its_report() {
+    let dir = std::env::temp_dir().join(format!("eval-cli-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = eval()
+        .args([
+            "--no-progress",
+            "--threads",
+            "2",
+            "compare",
+            "--random-tasks",
+            "0",
+            "--dig-by-dig",
+            "skip",
+            "--whole-task",
+            "skip",
+            "--out",
+        ])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("Reduced run: no dig-by-dig comparison"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("| goal | target | measured | met |"),
+        "{stdout}"
+    );
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(
+        md.contains("compare --random-tasks 0"),
+        "the command is quoted"
+    );
+    assert!(dir.join("plans/D.svg").is_file());
+    let _ = std::fs::remove_dir_all(&dir);
+}
