@@ -216,6 +216,12 @@ fn run(cli: Cli) -> Result<(), EvalError> {
                 steps.join(", "),
                 report_dir.display()
             );
+            if !quick {
+                println!(
+                    "networks in {0}/networks (plan with them: cargo run --release -p infer --features cli --bin plan -- --task A --networks {0}/networks)",
+                    s.out.display()
+                );
+            }
         }
         Command::Compare {
             networks,
