@@ -52,6 +52,8 @@ use serde::{Deserialize, Serialize};
 pub const MAX_DIGS: usize = 64;
 /// Most candidates compared by rollouts per dig.
 pub const MAX_ROLLOUTS: usize = 8;
+/// Most infeasible candidates repaired per dig.
+pub const MAX_REPAIRS: usize = 8;
 
 /// Everything the planner lets a caller tune; the defaults plan tasks A–D.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -107,6 +109,9 @@ pub struct PlannerSettings {
     /// the design (against design material removed) and the dig objective.
     pub weight_over_dig: f64,
     pub weight_objective: f64,
+    /// How many of the least infeasible candidates are repaired, in turn,
+    /// when no candidate is feasible as predicted (at most [`MAX_REPAIRS`]).
+    pub repairs: usize,
     /// How far past a candidate's start and end its bucket may still
     /// collect material \[m\]: a candidate with less than V_min of design
     /// material within it is not worth repairing.
@@ -148,6 +153,7 @@ impl Default for PlannerSettings {
             start_after_move: 0.95,
             weight_over_dig: 3.0,
             weight_objective: 0.3,
+            repairs: 8,
             repair_reach: 0.08,
             fit: RepairSettings {
                 budget: 120,
@@ -468,7 +474,7 @@ impl Planner {
         } else {
             1
         };
-        let mut worst_kept: [Option<Scored>; 2] = [None; 2];
+        let mut worst_kept: [Option<Scored>; MAX_REPAIRS] = [None; MAX_REPAIRS];
         // The most telling reason any candidate failed.
         let mut why: Option<PlanError> = None;
         let mut evaluations = 0;
@@ -515,7 +521,11 @@ impl Planner {
                         continue;
                     };
                     if !a.feasible {
-                        keep_best(&mut worst_kept, 2, Scored::new(-a.violation, c, predicted));
+                        keep_best(
+                            &mut worst_kept,
+                            s.repairs,
+                            Scored::new(-a.violation, c, predicted),
+                        );
                         continue;
                     }
                     let score = self.score(&scene.terrain, d, carve, &a);
