@@ -430,11 +430,12 @@ impl Planner {
         self.step(target, scene, carve, Some(rollout), false, predictor)
     }
 
-    /// One dig on `scene`. With `rollout` (the planner's own step) the
-    /// best candidates are compared by playing the rest of the task out on
-    /// it with the quick policy, and the chosen dig may be refined; without
-    /// (the quick policy itself) the first candidate that scores
-    /// `rollout_accept` is taken and a failed dig is only time-rescaled.
+    /// One dig on `scene`. `rollout`, when given, is the spare surface on
+    /// which the best candidates are compared by playing the rest of the
+    /// task out ([`Self::play_out`]). `quick` is the cheap policy rollouts
+    /// may play instead of the full search: the first candidate scoring
+    /// `rollout_accept` is taken, nothing is refined, and a failed dig is
+    /// only time-rescaled.
     fn step<P: DigPredictor + ?Sized>(
         &self,
         target: &Target,
