@@ -244,7 +244,9 @@ pub struct PlannedDig {
     /// The dig as planned, Y = [a16, a26, a36, T].
     pub params: DigParams,
     pub outcome: Outcome,
-    /// Exact-model evaluations spent validating and repairing.
+    /// Exact-model evaluations spent on this dig: candidates, refinement,
+    /// repair, and the digs of its rollouts (not those of a rollout's
+    /// failed last step).
     pub evaluations: usize,
     /// Every figure of the dig under the exact model, on the real surface.
     pub report: DigReport,
@@ -560,7 +562,8 @@ impl Planner {
                 chosen = Some(t);
                 break;
             };
-            let outcome = self.play_out(target, scene, roll, carve, &t, predictor);
+            let (outcome, used) = self.play_out(target, scene, roll, carve, &t, predictor);
+            evaluations += used;
             if chosen.is_none() || outcome < chosen_outcome {
                 chosen = Some(t);
                 chosen_outcome = outcome;
@@ -689,9 +692,10 @@ impl Planner {
         )))
     }
 
-    /// Plays the rest of the task out on `roll` after `dig`, with the quick
-    /// policy: the fraction of the design area left under- and over-dug
-    /// (less is better), with a little per dig.
+    /// Plays the rest of the task out on `roll` after `dig`, with the
+    /// planner's search without rollouts (or the quick policy): the
+    /// fraction of the design area left under- and over-dug (less is
+    /// better) with a little per dig, and the evaluations of the digs made.
     fn play_out<P: DigPredictor + ?Sized>(
         &self,
         target: &Target,
@@ -700,7 +704,7 @@ impl Planner {
         carve: &mut CarveBuffer,
         dig: &Scored,
         predictor: &mut P,
-    ) -> f64 {
+    ) -> (f64, usize) {
         roll.clone_from(scene);
         let ground = dig.candidate.ground(&roll.terrain);
         let task = dig.candidate.query.task();
@@ -714,20 +718,22 @@ impl Planner {
         )
         .is_err()
         {
-            return f64::INFINITY;
+            return (f64::INFINITY, 1);
         }
         roll.terrain.commit(carve);
         roll.base_x = dig.candidate.base_x;
         roll.done += 1;
         let quick = !self.settings.rollout_full;
+        let mut evaluations = 1;
         for _ in 0..self.settings.rollout_depth {
             match self.step(target, roll, carve, None, quick, predictor) {
-                Ok(Some(_)) => {}
+                Ok(Some(d)) => evaluations += d.evaluations,
                 _ => break,
             }
         }
         let m = target.design.compare(&roll.terrain);
-        m.under_dug + m.over_dug + self.settings.rollout_per_dig * roll.done as f64
+        let per_dig = self.settings.rollout_per_dig * roll.done as f64;
+        (m.under_dug + m.over_dug + per_dig, evaluations)
     }
 
     /// Where the next dig's candidate starts are anchored: the far end of
