@@ -376,6 +376,29 @@ fn planned_digs_are_feasible_under_the_exact_model() {
 
 proptest! {
     #![proptest_config(ProptestConfig { cases: 6, ..ProptestConfig::default() })]
+    /// The shipped networks with the default settings, on random tasks
+    /// across the workspace: no panic, and every dig returned is feasible.
+    #[test]
+    fn shipped_networks_never_return_infeasible_digs(
+        length in 0.45f64..0.9,
+        depth in 0.06f64..0.2,
+        b1 in 35.0f64..85.0,
+        b2 in 35.0f64..85.0,
+        far_edge in 0.95f64..1.1,
+    ) {
+        let (down, back) = (shipped("downward"), shipped("backward"));
+        let mut pair = infer::NetworkPair {
+            downward: down.network().unwrap(),
+            backward: back.network().unwrap(),
+        };
+        let cfg = Config::default();
+        let planner = Planner::new(&cfg, &PlannerSettings::default()).unwrap();
+        let task = TrenchTask { far_edge, ..TrenchTask::new_deg(length, depth, b1, b2) };
+        if planner.digs_for(&task).is_ok() {
+            check_plan(&planner, &task, &mut pair);
+        }
+    }
+
     #[test]
     fn valid_tasks_never_panic_or_return_infeasible_digs(
         length in 0.45f64..0.9,
