@@ -9,6 +9,12 @@
 //! [`evaluate`] call that returns every figure of a dig with a per-constraint
 //! feasibility report.
 //!
+//! On top of it: the trained networks' forward pass from exported weights
+//! ([`network`], no burn), the validation and repair of a predicted dig
+//! ([`repair`]), trenching tasks and their design profile ([`trench`]), and
+//! the continuous trench planner ([`planner`]: a task becomes a sequence of
+//! feasible digs, each planned on the surface the last one left).
+//!
 //! It builds without `std` (`default-features = false`) and never allocates
 //! on the heap: evaluation works in a caller-owned [`CarveBuffer`], so the
 //! optimisers can call it millions of times and a controller can call it in
