@@ -3,6 +3,8 @@
 //! Angles are in degrees on the command line; output is readable text, or
 //! one JSON object with `--json`.
 
+mod common;
+
 use clap::Parser;
 use infer::{
     CarveBuffer, Config, DigParams, DigTask, DigType, Elbow, Ground, Pose, Terrain, deg, to_deg,
@@ -114,14 +116,7 @@ fn joints(
 }
 
 fn run(args: Args) -> Result<(), String> {
-    let cfg: Config = match &args.config {
-        Some(path) => {
-            let text =
-                std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?
-        }
-        None => Config::default(),
-    };
+    let cfg: Config = common::json_or_default(args.config.as_deref())?;
     cfg.validate().map_err(|e| e.to_string())?;
     for (name, v) in [
         ("start", &args.start),

@@ -1,6 +1,8 @@
 //! `plan`: plan a trenching task into a feasible sequence of digs and write
 //! the plan as JSON and an SVG picture.
 
+mod common;
+
 use clap::Parser;
 use infer::network::NetworkFile;
 use infer::plan::{Plan, svg};
@@ -120,24 +122,10 @@ fn load_networks(dir: &Path) -> Result<(NetworkFile, NetworkFile), String> {
 }
 
 fn run(args: Args) -> Result<(), String> {
-    let cfg: Config = match &args.config {
-        Some(path) => {
-            let text =
-                std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?
-        }
-        None => Config::default(),
-    };
+    let cfg: Config = common::json_or_default(args.config.as_deref())?;
     cfg.validate().map_err(|e| e.to_string())?;
     let (task, title) = read_task(&args)?;
-    let settings: PlannerSettings = match &args.settings {
-        Some(path) => {
-            let text =
-                std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?
-        }
-        None => PlannerSettings::default(),
-    };
+    let settings: PlannerSettings = common::json_or_default(args.settings.as_deref())?;
     let planner = Planner::new(&cfg, &settings).map_err(|e| e.to_string())?;
     planner.digs_for(&task).map_err(|e| e.to_string())?;
     let plan: Plan = if args.refine {
