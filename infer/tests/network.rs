@@ -1,3 +1,5 @@
+mod common;
+
 use infer::network::{Network, NetworkFile, parameter_count};
 use infer::{DigType, Error};
 
@@ -104,12 +106,8 @@ fn shipped_networks_load_and_predict() {
         DigType::Downward,
     )
     .unwrap();
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts");
     for (kind, hidden) in [(DigType::Downward, 70), (DigType::Backward, 60)] {
-        let path = dir.join(format!("network_{kind}.json"));
-        let text =
-            std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        let file = NetworkFile::from_json(&text).unwrap();
+        let file = common::shipped(kind);
         assert_eq!(file.dig_type, kind);
         assert_eq!(file.widths, vec![7, hidden, hidden, hidden, 4]);
         let y = file.network().unwrap().forward(&query.input()).unwrap();

@@ -2,10 +2,10 @@
 #![allow(unsafe_code)] // the counting allocator below
 
 mod common;
-use common::{REFERENCE_Y, flat, reference_query};
+use common::{REFERENCE_Y, flat, reference_query, shipped};
 use infer::repair::{DesignGuard, Outcome, RepairError, Violation, assess, repair, rescale};
 use infer::{
-    CarveBuffer, Config, DigParams, DigPredictor, DigQuery, Error, Ground, Planner,
+    CarveBuffer, Config, DigParams, DigPredictor, DigQuery, DigType, Error, Ground, Planner,
     PlannerSettings, Quantity, RefinePredictor, RepairSettings, TaskError, Trajectory, TrenchTask,
     deg,
 };
@@ -386,7 +386,7 @@ proptest! {
         b2 in 35.0f64..85.0,
         far_edge in 0.95f64..1.1,
     ) {
-        let (down, back) = (shipped("downward"), shipped("backward"));
+        let (down, back) = (shipped(DigType::Downward), shipped(DigType::Backward));
         let mut pair = infer::NetworkPair {
             downward: down.network().unwrap(),
             backward: back.network().unwrap(),
@@ -416,18 +416,12 @@ proptest! {
     }
 }
 
-fn shipped(kind: &str) -> infer::network::NetworkFile {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join(format!("../artifacts/network_{kind}.json"));
-    infer::network::NetworkFile::from_json(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
-
 /// With the shipped networks, tasks A–D are planned without an error, dig
 /// by dig feasible under a fresh exact evaluation, and each plan removes
 /// most of its design area.
 #[test]
 fn shipped_networks_plan_tasks_a_to_d() {
-    let (down, back) = (shipped("downward"), shipped("backward"));
+    let (down, back) = (shipped(DigType::Downward), shipped(DigType::Backward));
     let mut pair = infer::NetworkPair {
         downward: down.network().unwrap(),
         backward: back.network().unwrap(),

@@ -43,3 +43,11 @@ impl Lcg {
         lo + (hi - lo) * self.next()
     }
 }
+
+/// The network of `kind` shipped in `artifacts/`.
+pub fn shipped(kind: infer::DigType) -> infer::network::NetworkFile {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(format!("../artifacts/network_{kind}.json"));
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    infer::network::NetworkFile::from_json(&text).unwrap()
+}
