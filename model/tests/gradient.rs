@@ -23,7 +23,7 @@ fn total_loss(cfg: &Config, x: Tensor<2>, y_n: Tensor<2>, y_true_n: Tensor<2>) -
     let y = y_n.clone() * std + mean;
     let figs = dig_figures(cfg, DigType::Downward, x, y);
     let reg = Tensor::<1>::zeros([1], &device);
-    let t = losses(&LossWeights::default(), y_n, y_true_n, &figs, reg);
+    let t = losses(&LossWeights::default(), 0.0, y_n, y_true_n, &figs, reg);
     vec![
         t.total,
         t.data,

@@ -47,6 +47,10 @@ pub struct LossConfig {
     /// uses `infer::Config::default().time_samples`; the test evaluation
     /// always uses the exact model at its own grid).
     pub time_samples: usize,
+    /// Back-off of the constraint terms (`model::physics::losses`): a check
+    /// is penalised from this normalised distance inside its bound on.
+    #[serde(default)]
+    pub margin: f64,
 }
 
 /// Which samples are used and how they are split.
@@ -144,6 +148,7 @@ impl TrainConfig {
                 },
                 physics: true,
                 time_samples: 65,
+                margin: 0.0,
             },
             data: DataConfig {
                 validation_fraction: 200.0 / 1800.0,
@@ -204,6 +209,12 @@ impl TrainConfig {
                 "loss.time_samples {} must be in 3..={}",
                 self.loss.time_samples,
                 infer::config::MAX_TIME_SAMPLES
+            ));
+        }
+        if !(self.loss.margin.is_finite() && (0.0..0.5).contains(&self.loss.margin)) {
+            return bad(format!(
+                "loss.margin {} must be in [0, 0.5)",
+                self.loss.margin
             ));
         }
         if self.model.hidden.is_empty()

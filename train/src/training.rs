@@ -27,6 +27,8 @@ pub struct LossContext {
     /// `false`: the total is the data loss and regulariser only (the physics
     /// terms are still computed, without gradient, for the log).
     pub physics: bool,
+    /// Back-off of the constraint terms in the total.
+    pub margin: f64,
 }
 
 impl LossContext {
@@ -40,6 +42,7 @@ impl LossContext {
             kind: cfg.kind(),
             weights: cfg.loss.weights,
             physics: cfg.loss.physics,
+            margin: cfg.loss.margin,
         }
     }
 }
@@ -53,10 +56,17 @@ pub fn forward_step(model: &DigNet, x: Tensor<2>, y: Tensor<2>, ctx: &LossContex
     let reg = model.weight_penalty();
     if ctx.physics {
         let figures = dig_figures(&ctx.physics_cfg, ctx.kind, x, y_pred);
-        losses(&ctx.weights, y_pred_n, y_true_n, &figures, reg)
+        losses(&ctx.weights, ctx.margin, y_pred_n, y_true_n, &figures, reg)
     } else {
         let figures = dig_figures(&ctx.physics_cfg, ctx.kind, x, y_pred.detach());
-        let mut terms = losses(&ctx.weights, y_pred_n, y_true_n, &figures, reg.clone());
+        let mut terms = losses(
+            &ctx.weights,
+            ctx.margin,
+            y_pred_n,
+            y_true_n,
+            &figures,
+            reg.clone(),
+        );
         terms.total = terms.data.clone() * ctx.weights.data + reg * ctx.weights.regulariser;
         terms
     }

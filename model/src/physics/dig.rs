@@ -38,6 +38,10 @@ pub struct Figures {
     /// Normalised violation of each of the 16 checks of `infer::DigReport::checks`
     /// (`Check::violation()`: 0 when satisfied), `[B, 16]`; see [`violation_names`].
     pub violations: Tensor<2>,
+    /// The same checks signed: how far beyond its nearest bound a figure is
+    /// (negative: how far inside), normalised as `violations`, which is
+    /// `relu(slack)`. A training loss can ask for a margin inside the bounds.
+    pub slack: Tensor<2>,
 }
 
 /// Names of the columns of [`Figures::violations`], in `infer`'s order.
@@ -163,9 +167,9 @@ pub fn dig_figures_with(
         DigType::Downward => cfg.dig_angle.downward,
         DigType::Backward => cfg.dig_angle.backward,
     };
-    // Check::violation(): max(0, lower − min, max − upper) / (upper − lower).
+    // Check::violation() before its max(0, ·): max(lower − min, max − upper) / (upper − lower).
     let interval = |min: Tensor<2>, max: Tensor<2>, lower: f64, upper: f64| {
-        relu((min.neg() + lower).max_pair(max - upper)) / (upper - lower)
+        (min.neg() + lower).max_pair(max - upper) / (upper - lower)
     };
     let mut checks: Vec<Tensor<2>> = Vec::with_capacity(infer::dig::CHECKS);
     for i in 0..3 {
@@ -184,7 +188,7 @@ pub fn dig_figures_with(
         let (lo, hi) = range(t);
         checks.push(interval(lo, hi, -m.max_torque, m.max_torque));
     }
-    checks.push(relu(power_max.clone() - m.max_power) / m.max_power);
+    checks.push((power_max.clone() - m.max_power) / m.max_power);
     checks.push(interval(
         dig_angle.clone(),
         dig_angle.clone(),
@@ -204,6 +208,7 @@ pub fn dig_figures_with(
         obj.duration[1],
     ));
 
+    let slack = Tensor::cat(checks, 1);
     let flat = |t: Tensor<2>| t.squeeze_dim::<1>(1);
     Figures {
         duration: flat(big_t),
@@ -216,7 +221,8 @@ pub fn dig_figures_with(
         dig_angle: flat(dig_angle),
         objective: flat(objective),
         objective_terms: Tensor::cat(terms.to_vec(), 1),
-        violations: Tensor::cat(checks, 1),
+        violations: relu(slack.clone()),
+        slack,
     }
 }
 

@@ -16,6 +16,13 @@
 //! Violations are `infer`'s `Check::violation()`: the distance beyond the
 //! bound divided by the width of the allowed range (power: by P_max), so
 //! terms of different units add up.
+//!
+//! With a `margin` m > 0 the total penalises each check already when its
+//! figure comes within m (same normalisation) of a bound, i.e. it uses
+//! `relu(slack + m)` instead of the violation. The optimiser's optima sit on
+//! active bounds, so a network that fits them lands on the boundary and half
+//! its digs are just infeasible; the margin backs it off into the feasible
+//! set. Loss2–4 as returned (and logged) stay the true violations.
 
 use super::dig::Figures;
 use burn::tensor::Tensor;
@@ -70,16 +77,41 @@ const VOLUME_CHECK: usize = 14;
 
 /// The loss of a batch: `y_pred_n`, `y_true_n` `[B, 4]` normalised outputs for
 /// the data term; `figures` of the denormalised prediction; `reg` the
-/// regulariser R(W) computed by the caller (or zeros `[1]`).
+/// regulariser R(W) computed by the caller (or zeros `[1]`); `margin` the
+/// back-off of the constraint terms in the total (module docs).
 pub fn losses(
     w: &LossWeights,
+    margin: f64,
     y_pred_n: Tensor<2>,
     y_true_n: Tensor<2>,
     figures: &Figures,
     reg: Tensor<1>,
 ) -> LossTerms {
-    let v = &figures.violations;
     let data = (y_pred_n - y_true_n).square().sum_dim(1).mean();
+    let [joints, dig_angle, fill] = constraint_terms(&figures.violations);
+    let constraint = if margin > 0.0 {
+        let [j, a, f] = constraint_terms(&(figures.slack.clone() + margin).clamp_min(0.0));
+        j + a + f
+    } else {
+        joints.clone() + dig_angle.clone() + fill.clone()
+    };
+    let performance = figures.objective.clone().mean();
+    let total = data.clone() * w.data
+        + constraint * w.constraint
+        + performance.clone() * w.performance
+        + reg * w.regulariser;
+    LossTerms {
+        data,
+        joints,
+        dig_angle,
+        fill,
+        performance,
+        total,
+    }
+}
+
+/// Loss2, Loss3 and Loss4 from per-check penalties `[B, 16]`.
+fn constraint_terms(v: &Tensor<2>) -> [Tensor<1>; 3] {
     let joints = Tensor::cat(
         JOINT_CHECKS
             .iter()
@@ -91,17 +123,5 @@ pub fn losses(
     .mean();
     let dig_angle = v.clone().narrow(1, DIG_ANGLE_CHECK, 1).mean();
     let fill = v.clone().narrow(1, VOLUME_CHECK, 1).mean();
-    let performance = figures.objective.clone().mean();
-    let total = data.clone() * w.data
-        + (joints.clone() + dig_angle.clone() + fill.clone()) * w.constraint
-        + performance.clone() * w.performance
-        + reg * w.regulariser;
-    LossTerms {
-        data,
-        joints,
-        dig_angle,
-        fill,
-        performance,
-        total,
-    }
+    [joints, dig_angle, fill]
 }

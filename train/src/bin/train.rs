@@ -51,6 +51,9 @@ struct Cli {
     /// Time samples of the tensor physics in the training loss.
     #[arg(long)]
     time_samples: Option<usize>,
+    /// Back-off of the constraint terms (normalised distance inside each bound).
+    #[arg(long)]
+    margin: Option<f64>,
     /// Train with the data loss only.
     #[arg(long)]
     data_only: bool,
@@ -97,6 +100,9 @@ fn config_for(cli: &Cli, kind: DigType) -> Result<TrainConfig, String> {
     }
     if let Some(v) = cli.time_samples {
         cfg.loss.time_samples = v;
+    }
+    if let Some(v) = cli.margin {
+        cfg.loss.margin = v;
     }
     if cli.data_only {
         cfg.loss.physics = false;
