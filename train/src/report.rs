@@ -287,7 +287,7 @@ pub fn markdown(r: &Report) -> String {
     let c = &r.config;
     let _ = writeln!(
         out,
-        "# Training report: {} digs\n\nNetwork 7 → {:?} (tanh) → 4, Adam lr {:.1e} × {}^epoch (≥ {:.0e}), batch {}, loss weights {:?}, physics {} ({} time samples), {} on `{}` with {} threads, seed {}. Machine: {}.\n",
+        "# Training report: {} digs\n\nNetwork 7 → {:?} (tanh) → 4, Adam lr {:.1e} × {}^epoch (≥ {:.0e}), batch {}, loss weights {:?}, constraint margin {}, physics {} ({} time samples), {} on `{}` with {} threads, seed {}. Machine: {}.\n",
         r.dig_type,
         c.model.hidden,
         c.optimiser.learning_rate,
@@ -295,6 +295,7 @@ pub fn markdown(r: &Report) -> String {
         c.optimiser.min_learning_rate,
         c.optimiser.batch_size,
         c.loss.weights,
+        c.loss.margin,
         if c.loss.physics { "on" } else { "off" },
         c.loss.time_samples,
         c.runtime.dtype,

@@ -96,6 +96,16 @@ fn empty_split_is_an_error() {
 }
 
 #[test]
+fn bad_margin_is_a_config_error() {
+    for margin in [-0.1, 0.5, f64::NAN] {
+        let mut cfg = tiny(DigType::Downward);
+        cfg.loss.margin = margin;
+        let e = cfg.validate().unwrap_err().to_string();
+        assert!(e.contains("loss.margin"), "{e}");
+    }
+}
+
+#[test]
 fn non_finite_loss_stops_the_job() {
     let mut cfg = tiny(DigType::Downward);
     cfg.optimiser.learning_rate = 1e30;
