@@ -53,6 +53,9 @@ pub struct EvalSettings {
     /// Which tasks are also planned with an optimiser in the loop.
     pub whole_task: Coverage,
     pub in_loop: Baseline,
+    /// The planner's settings, for the network and the optimiser in the loop alike.
+    #[serde(default)]
+    pub planner: PlannerSettings,
 }
 
 impl Default for EvalSettings {
@@ -68,6 +71,7 @@ impl Default for EvalSettings {
             baselines: Baseline::source(),
             whole_task: Coverage::All,
             in_loop: Baseline::pso(),
+            planner: PlannerSettings::default(),
         }
     }
 }
@@ -103,6 +107,9 @@ impl EvalSettings {
             Coverage::All => {}
             Coverage::Reference => out.push("whole-task comparison on tasks A–D only".into()),
             Coverage::Skip => out.push("no whole-task comparison".into()),
+        }
+        if self.planner != PlannerSettings::default() {
+            out.push("planner settings differ from the defaults".into());
         }
         if self
             .baselines
@@ -167,7 +174,7 @@ pub fn evaluate(
 ) -> Result<EvalReport, EvalError> {
     let clock = Instant::now();
     let load_start = load_average();
-    let planner = Planner::new(cfg, &PlannerSettings::default())?;
+    let planner = Planner::new(cfg, &settings.planner)?;
     let tasks = task_set(
         &planner,
         settings.random_tasks,

@@ -136,6 +136,8 @@ pub fn digs_csv(report: &EvalReport) -> String {
             "we_wh",
             "objective",
             "feasible",
+            "over_dig_mm",
+            "within_design",
             "seconds",
         ] {
             header.push(format!("{m}_{f}"));
@@ -162,7 +164,8 @@ pub fn digs_csv(report: &EvalReport) -> String {
             };
             match f {
                 Some(f) => {
-                    v.extend(f.y.iter().map(|y| format!("{y:.6e}")));
+                    // Y's T is the duration: written once, as t_s.
+                    v.extend(f.y[..3].iter().map(|y| format!("{y:.6e}")));
                     v.push(format!("{:.4}", f.duration_s));
                     v.push(format!("{:.1}", f.volume_cm3));
                     v.push(format!("{:.5}", f.energy_wh));

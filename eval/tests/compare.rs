@@ -181,6 +181,20 @@ fn planning_failures_are_reported_not_panics() {
 
 /// The whole evaluation on a small set, written to disk: every file, a
 /// line per dig in the CSV, failures named in the report.
+/// Fields of one CSV line (commas inside double quotes do not split).
+fn csv_fields(line: &str) -> usize {
+    let mut quoted = false;
+    1 + line
+        .chars()
+        .filter(|&c| {
+            if c == '"' {
+                quoted = !quoted;
+            }
+            c == ',' && !quoted
+        })
+        .count()
+}
+
 #[test]
 fn small_evaluation_writes_every_report_file() {
     let settings = EvalSettings {
@@ -218,6 +232,15 @@ fn small_evaluation_writes_every_report_file() {
     assert_eq!(csv.lines().count(), report.digs.len() + 1);
     let tasks_csv = std::fs::read_to_string(dir.join("tasks.csv")).unwrap();
     assert_eq!(tasks_csv.lines().count(), 6);
+    for f in ["digs.csv", "tasks.csv", "table4.csv", "whole.csv"] {
+        let text = std::fs::read_to_string(dir.join(f)).unwrap();
+        let widths: Vec<usize> = text.lines().map(csv_fields).collect();
+        assert!(
+            widths.iter().all(|&w| w == widths[0]),
+            "{f}: every row has the header's {} fields: {widths:?}",
+            widths[0]
+        );
+    }
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
     assert!(md.contains("## Goals") && md.contains("Table 4"));
     for (name, f) in &report.summary.failures {

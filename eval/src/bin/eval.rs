@@ -44,6 +44,9 @@ struct EvalArgs {
     /// Optimisers of the dig-by-dig comparison (pso, gwo, nsga2), at the source's settings.
     #[arg(long, value_delimiter = ',')]
     optimisers: Option<Vec<String>>,
+    /// Planner settings as JSON (`infer::PlannerSettings`; any field left out keeps its default).
+    #[arg(long)]
+    planner: Option<PathBuf>,
 }
 
 impl EvalArgs {
@@ -57,6 +60,12 @@ impl EvalArgs {
         }
         if let Some(c) = self.whole_task {
             s.whole_task = c;
+        }
+        if let Some(path) = &self.planner {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| EvalError::BadArgument(format!("{}: {e}", path.display())))?;
+            s.planner = serde_json::from_str(&text)
+                .map_err(|e| EvalError::BadArgument(format!("{}: {e}", path.display())))?;
         }
         if let Some(names) = &self.optimisers {
             s.baselines = names
