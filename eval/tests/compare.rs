@@ -179,8 +179,6 @@ fn planning_failures_are_reported_not_panics() {
     );
 }
 
-/// The whole evaluation on a small set, written to disk: every file, a
-/// line per dig in the CSV, failures named in the report.
 /// Fields of one CSV line (commas inside double quotes do not split).
 fn csv_fields(line: &str) -> usize {
     let mut quoted = false;
@@ -195,6 +193,9 @@ fn csv_fields(line: &str) -> usize {
         .count()
 }
 
+/// The whole evaluation on a small set, written to disk: every file, a
+/// line per dig in the CSV, every row as wide as its header, failures
+/// named in the report.
 #[test]
 fn small_evaluation_writes_every_report_file() {
     let settings = EvalSettings {

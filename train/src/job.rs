@@ -186,3 +186,36 @@ pub fn run(cfg: &TrainConfig, opts: &JobOptions) -> Result<Report, TrainError> {
 fn pretty<T: serde::Serialize>(v: &T) -> String {
     serde_json::to_string_pretty(v).expect("configs and reports always serialise")
 }
+
+/// The exported network `network_<kind>.json` in `dir` on every feasible
+/// sample of `kind` in `dataset`, with the exact model: the same figures as
+/// a training report's test split, for data the network never saw (a
+/// dataset of another seed).
+pub fn evaluate_exported(
+    dir: &Path,
+    dataset: &Path,
+    kind: infer::DigType,
+) -> Result<report::TestEvaluation, TrainError> {
+    let path = dir.join(format!("network_{}.json", kind.name()));
+    let text = std::fs::read_to_string(&path).map_err(|source| TrainError::Io {
+        path: path.clone(),
+        source,
+    })?;
+    let file = infer::network::NetworkFile::from_json(&text)
+        .map_err(|detail| TrainError::BadData { path, detail })?;
+    let files = data::dataset_files(dataset)?;
+    let samples: Vec<data::Sample> = data::load(&files, kind)?
+        .into_iter()
+        .filter(|s| s.feasible)
+        .collect();
+    if samples.is_empty() {
+        return Err(TrainError::BadData {
+            path: dataset.to_path_buf(),
+            detail: format!("no feasible {} samples", kind.name()),
+        });
+    }
+    let x: Vec<[f64; 7]> = samples.iter().map(|s| s.x).collect();
+    let y: Vec<[f64; 4]> = samples.iter().map(|s| s.y).collect();
+    let y_std = model::network::Normalisation::fit(&x, &y).y_std;
+    report::evaluate_test(&file, &samples, &y_std)
+}

@@ -209,4 +209,17 @@ fn artifacts_load_without_burn() {
     let t = &report.model.test;
     assert_eq!(t.samples, report.dataset.test);
     assert!(t.mean_objective.is_finite());
+    // `train --evaluate`: the exported network on every feasible sample of a dataset.
+    let all = job::evaluate_exported(&o.out, dataset(), DigType::Backward).unwrap();
+    let feasible = train::data::load(&[dataset().to_path_buf()], DigType::Backward)
+        .unwrap()
+        .iter()
+        .filter(|s| s.feasible)
+        .count();
+    assert_eq!(all.samples, feasible);
+    assert!((0.0..=1.0).contains(&all.feasible_fraction) && all.mean_objective.is_finite());
+    let e = job::evaluate_exported(&o.out, dataset(), DigType::Downward)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("network_downward.json"), "{e}");
 }
