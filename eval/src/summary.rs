@@ -31,9 +31,21 @@ pub struct BaselineSummary {
     pub objective_ratio_within_design: f64,
     /// Per-dig network / optimiser objective over the same digs.
     pub dig_ratio: Distribution,
+    /// The same ratio of means by how the network's dig was made (digs, ratio):
+    /// it tells the network's own digs from the ones the planner repaired.
+    #[serde(default)]
+    pub objective_ratio_by_outcome: Vec<(Outcome, usize, f64)>,
     /// Planning time per dig \[s\].
     pub dig_seconds: Distribution,
 }
+
+/// Every way a planned dig comes about, in the order reports list them.
+const OUTCOMES: [Outcome; 4] = [
+    Outcome::Predicted,
+    Outcome::Fitted,
+    Outcome::Rescaled,
+    Outcome::Refined,
+];
 
 /// A goal of the issue and whether this run meets it.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -95,6 +107,15 @@ fn baseline_summary(method: &str, digs: &[DigRow]) -> BaselineSummary {
         .map(|(r, f)| r.network.objective / f.objective)
         .collect();
     let secs: Vec<f64> = of.iter().map(|(_, f)| f.seconds).collect();
+    let by_outcome = OUTCOMES
+        .into_iter()
+        .filter_map(|o| {
+            let of_o: Vec<_> = both.iter().filter(|(r, _)| r.outcome == o).collect();
+            let net = mean(&mut of_o.iter().map(|(r, _)| r.network.objective));
+            let opt = mean(&mut of_o.iter().map(|(_, f)| f.objective));
+            (!of_o.is_empty()).then(|| (o, of_o.len(), net / opt))
+        })
+        .collect();
     BaselineSummary {
         method: method.to_string(),
         digs: of.len(),
@@ -105,6 +126,7 @@ fn baseline_summary(method: &str, digs: &[DigRow]) -> BaselineSummary {
         within_design: inside.len(),
         objective_ratio_within_design: net_in / opt_in,
         dig_ratio: Distribution::of(&ratios),
+        objective_ratio_by_outcome: by_outcome,
         dig_seconds: Distribution::of(&secs),
     }
 }
@@ -195,22 +217,17 @@ pub fn summarise(
         refined: tasks.iter().map(|t| t.network.refined).sum(),
         fitted: tasks.iter().map(|t| t.network.fitted).sum(),
         network_dig_seconds,
-        network_dig_seconds_by_outcome: [
-            Outcome::Predicted,
-            Outcome::Fitted,
-            Outcome::Rescaled,
-            Outcome::Refined,
-        ]
-        .into_iter()
-        .map(|o| {
-            let t: Vec<f64> = planned
-                .iter()
-                .filter(|s| s.dig.outcome == o)
-                .map(|s| s.seconds)
-                .collect();
-            (o, Distribution::of(&t))
-        })
-        .collect(),
+        network_dig_seconds_by_outcome: OUTCOMES
+            .into_iter()
+            .map(|o| {
+                let t: Vec<f64> = planned
+                    .iter()
+                    .filter(|s| s.dig.outcome == o)
+                    .map(|s| s.seconds)
+                    .collect();
+                (o, Distribution::of(&t))
+            })
+            .collect(),
         network_task_seconds: Distribution::of(&task_secs),
         baselines,
         speedup_vs_pso: speedup,

@@ -438,6 +438,26 @@ pub fn methods_markdown(report: &EvalReport) -> String {
             seconds(b.dig_seconds.p95)
         );
     }
+    let by_outcome: Vec<String> = s
+        .baselines
+        .iter()
+        .filter(|b| !b.objective_ratio_by_outcome.is_empty())
+        .map(|b| {
+            let parts: Vec<String> = b
+                .objective_ratio_by_outcome
+                .iter()
+                .map(|(o, n, r)| format!("{} {r:.3} ({n} digs)", format!("{o:?}").to_lowercase()))
+                .collect();
+            format!("{}: {}", method_label(&b.method), parts.join(", "))
+        })
+        .collect();
+    if !by_outcome.is_empty() {
+        let _ = writeln!(
+            out,
+            "\nNetwork / method mean objective by how the network's dig was made: {}.",
+            by_outcome.join("; ")
+        );
+    }
     let by: Vec<String> = s
         .network_dig_seconds_by_outcome
         .iter()

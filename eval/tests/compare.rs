@@ -242,8 +242,16 @@ fn small_evaluation_writes_every_report_file() {
             widths[0]
         );
     }
+    let pso = &report.summary.baselines[0];
+    let by: usize = pso.objective_ratio_by_outcome.iter().map(|(_, n, _)| n).sum();
+    assert_eq!(by, pso.feasible, "every compared dig has one outcome");
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
     assert!(md.contains("## Goals") && md.contains("Table 4"));
+    assert_eq!(
+        md.contains("by how the network's dig was made"),
+        pso.feasible > 0,
+        "the by-outcome line when some answer is feasible"
+    );
     for (name, f) in &report.summary.failures {
         assert!(md.contains(&format!("- {name}: {}", f.message)));
     }
