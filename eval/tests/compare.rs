@@ -243,7 +243,11 @@ fn small_evaluation_writes_every_report_file() {
         );
     }
     let pso = &report.summary.baselines[0];
-    let by: usize = pso.objective_ratio_by_outcome.iter().map(|(_, n, _)| n).sum();
+    let by: usize = pso
+        .objective_ratio_by_outcome
+        .iter()
+        .map(|(_, n, _)| n)
+        .sum();
     assert_eq!(by, pso.feasible, "every compared dig has one outcome");
     let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
     assert!(md.contains("## Goals") && md.contains("Table 4"));
