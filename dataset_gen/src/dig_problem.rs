@@ -293,6 +293,21 @@ pub fn objective_for(algorithm: &AnyAlgorithm) -> DigObjective {
     }
 }
 
+/// The member of a multi-objective run chosen as its answer: the one with
+/// the best weighted objective by Deb's rules, from the front plus the best
+/// point by T alone (in case the front lost feasibility that some
+/// evaluated point had).
+pub fn weighted_choice<'r>(problem: &mut DigProblem, run: &'r RunResult) -> &'r Individual {
+    let mut best: Option<(f64, f64, &Individual)> = None;
+    for m in run.front.iter().chain(std::iter::once(&run.best)) {
+        let (f, v) = problem.weighted(&m.x);
+        if best.is_none_or(|(bf, bv, _)| compare_single(v, f, bv, bf).is_lt()) {
+            best = Some((f, v, m));
+        }
+    }
+    best.map_or(&run.best, |(_, _, m)| m)
+}
+
 /// Optimises one query with `algorithm` (PSO/GWO on the weighted objective,
 /// NSGA-II on (T, W_E, −V), then the front member with the best weighted
 /// objective by Deb's rules; the best feasible point by T is also a
@@ -330,18 +345,7 @@ pub fn solve_problem(
     let run: RunResult = algorithm.run(&runner, problem, rng)?;
     let chosen: Individual = match objective {
         DigObjective::Weighted => run.best.clone(),
-        DigObjective::Pareto => {
-            // The front, plus the best point by T alone in case the front lost
-            // feasibility that some evaluated point had.
-            let mut best: Option<(f64, f64, &Individual)> = None;
-            for m in run.front.iter().chain(std::iter::once(&run.best)) {
-                let (f, v) = problem.weighted(&m.x);
-                if best.is_none_or(|(bf, bv, _)| compare_single(v, f, bv, bf).is_lt()) {
-                    best = Some((f, v, m));
-                }
-            }
-            best.map_or_else(|| run.best.clone(), |(_, _, m)| m.clone())
-        }
+        DigObjective::Pareto => weighted_choice(problem, &run).clone(),
     };
     let params = DigProblem::to_params(&chosen.x);
     let report = problem.report(&params).ok();

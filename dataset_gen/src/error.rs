@@ -41,6 +41,8 @@ pub enum Error {
     Merge(String),
     #[error("MCAP write error: {0}")]
     McapWrite(#[from] mcap::McapError),
+    #[error("{path}: could not draw: {detail}")]
+    Plot { path: PathBuf, detail: String },
     #[error("JSON error: {0}")]
     Json(#[from] serde_json::Error),
 }

@@ -7,7 +7,8 @@
 //! single-dig problem built on `infer`'s exact model (on a flat surface, or
 //! on any terrain for an optimiser in the planner's loop, [`predictor`]),
 //! the query sampler, a deterministic, sharded and resumable batch runner,
-//! and the MCAP dataset writer and reader that `train` and `eval` use.
+//! the MCAP dataset writer and reader that `train` and `eval` use, and
+//! pictures of Pareto fronts ([`front`]).
 //!
 //! The split follows argmin and pagmo: a [`problem::Problem`] says what is
 //! optimised, an [`algorithms::Algorithm`] how, and [`runner::Runner`] owns
@@ -21,6 +22,7 @@ pub mod batch;
 pub mod dataset;
 pub mod dig_problem;
 pub mod error;
+pub mod front;
 pub mod predictor;
 pub mod problem;
 pub mod quality;

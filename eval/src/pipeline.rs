@@ -19,8 +19,9 @@ use train::job::{self, JobOptions};
 /// What the pipeline does and where it writes.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PipelineSettings {
-    /// Working folder: `dataset-<n>-seed<s>/` (kept, so a rerun with the
-    /// same settings reuses it), `networks/`, `train/`.
+    /// Working folder: `dataset-<n>-seed<s>/` and the training checkpoints
+    /// `train/dataset-<n>-seed<s>/` (kept, so a rerun with the same
+    /// settings resumes both), `networks/`.
     pub out: PathBuf,
     /// Use the networks in this folder instead of making new ones (the
     /// quick form, with the shipped `artifacts/`).
@@ -63,6 +64,9 @@ impl PipelineSettings {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TrainedNetwork {
     pub kind: DigType,
+    /// The epoch of the checkpoint training went on from, if any.
+    #[serde(default)]
+    pub resumed_from: Option<usize>,
     pub samples: usize,
     pub epochs: usize,
     pub seconds: f64,
@@ -99,8 +103,9 @@ pub fn run(settings: &PipelineSettings, progress: bool) -> Result<PipelineOutcom
             let summary = make_dataset(settings, progress)?;
             steps.push(("dataset".to_string(), clock.elapsed().as_secs_f64()));
             eprintln!(
-                "dataset: {} digs in {:.0} s ({:.1} /s) → {}",
+                "dataset: {} digs ({} reused) in {:.0} s ({:.1} /s) → {}",
                 summary.computed + summary.skipped,
+                summary.skipped,
                 clock.elapsed().as_secs_f64(),
                 summary.samples_per_s,
                 dataset_dir(settings).display()
@@ -113,8 +118,12 @@ pub fn run(settings: &PipelineSettings, progress: bool) -> Result<PipelineOutcom
             let trained = train_both(settings, progress)?;
             steps.push(("training".to_string(), clock.elapsed().as_secs_f64()));
             for t in &trained {
+                let resumed = t
+                    .resumed_from
+                    .map(|e| format!(" (resumed from epoch {e})"))
+                    .unwrap_or_default();
                 eprintln!(
-                    "{}: {} epochs in {:.0} s on {} samples; test split: {:.1} % feasible before repair, relative performance {:.1} %",
+                    "{}: {} epochs{resumed} in {:.0} s on {} samples; test split: {:.1} % feasible before repair, relative performance {:.1} %",
                     t.kind,
                     t.epochs,
                     t.seconds,
@@ -176,11 +185,18 @@ fn train_both(
     settings: &PipelineSettings,
     progress: bool,
 ) -> Result<Vec<TrainedNetwork>, EvalError> {
+    // Checkpoints per dataset: an interrupted (or finished) run resumes
+    // where it stopped, and another dataset never resumes its networks.
+    let dataset = dataset_dir(settings);
+    let work = settings
+        .out
+        .join("train")
+        .join(dataset.file_name().unwrap_or_default());
     let opts = JobOptions {
-        dataset: dataset_dir(settings),
+        dataset,
         out: settings.out.join("networks"),
-        work: settings.out.join("train"),
-        resume: false,
+        work,
+        resume: true,
         ablation: false,
         progress: false,
     };
@@ -206,6 +222,7 @@ fn train_both(
                     let r = job::run(&cfg, opts)?;
                     Ok(TrainedNetwork {
                         kind,
+                        resumed_from: r.model.resumed_from,
                         samples: r.dataset.train + r.dataset.validation + r.dataset.test,
                         epochs: r.model.epochs,
                         seconds: r.model.seconds,

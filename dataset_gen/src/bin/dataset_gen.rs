@@ -7,11 +7,12 @@ use dataset_gen::Error;
 use dataset_gen::algorithms::AnyAlgorithm;
 use dataset_gen::algorithms::nsga2::hypervolume_2d;
 use dataset_gen::batch::{self, GenConfig, RunOptions, Shard};
+use dataset_gen::front;
 use dataset_gen::rng::rng_from_seed;
 use dataset_gen::runner::{Budget, Runner};
 use dataset_gen::testfns::{TestFn, TestProblem};
 use infer::DigType;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -90,6 +91,28 @@ enum Command {
         /// 10 and 30 dimensions, and NSGA-II on ZDT1–3 (30 variables).
         #[arg(long)]
         suite: bool,
+        /// Draw the final front over the true one (ZDT1–3) to this SVG file.
+        #[arg(long)]
+        plot: Option<PathBuf>,
+    },
+    /// NSGA-II's final front on one dig (T, W_E, V), the member a dataset
+    /// keeps and PSO's optimum: OUT.json and OUT.svg.
+    Front {
+        /// downward or backward.
+        #[arg(long = "type", default_value = "downward")]
+        kind: String,
+        /// Draw the query from the sampler with this seed (default: the
+        /// spec's reference dig, which is downward).
+        #[arg(long)]
+        sample: Option<u64>,
+        #[arg(long, default_value_t = 100)]
+        population: usize,
+        #[arg(long, default_value_t = 100)]
+        generations: usize,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        #[arg(long, default_value = "front")]
+        out: PathBuf,
     },
     /// Each optimiser at the source's settings vs the best with 10× iterations.
     Quality {
@@ -128,7 +151,15 @@ fn test_problem(
     pop: usize,
     iters: usize,
     seed: u64,
+    plot: Option<&Path>,
 ) -> Result<serde_json::Value, Error> {
+    if let Some(path) = plot.filter(|_| !f.is_multi_objective()) {
+        return Err(Error::BadArgument(format!(
+            "--plot {}: {} has no Pareto front to draw (zdt1–3 do)",
+            path.display(),
+            f.name()
+        )));
+    }
     let a = AnyAlgorithm::by_name(alg, pop)?;
     let mut p = TestProblem::new(f, dim);
     let r = a.run(
@@ -145,6 +176,11 @@ fn test_problem(
         v["hypervolume"] = serde_json::json!(hypervolume_2d(&pts, [1.1, 1.1]));
         v["reference_point"] = serde_json::json!([1.1, 1.1]);
         v["front_size"] = serde_json::json!(pts.len());
+        if let Some(path) = plot {
+            let title = format!("{alg} {pop} × {iters} on {} ({dim} variables)", f.name());
+            front::zdt_front_svg(path, f, &pts, &title)?;
+            v["plot"] = serde_json::json!(path);
+        }
     } else {
         v["best_fitness"] = serde_json::json!(r.best.f[0]);
     }
@@ -218,8 +254,14 @@ fn main_inner() -> Result<(), Error> {
             iterations,
             seed,
             suite,
+            plot,
         } => {
             if suite {
+                if plot.is_some() {
+                    return Err(Error::BadArgument(
+                        "--plot draws one problem's front; leave out --suite".into(),
+                    ));
+                }
                 let mut out = Vec::new();
                 for f in TestFn::ALL {
                     let algs: &[&str] = if f.is_multi_objective() {
@@ -234,7 +276,7 @@ fn main_inner() -> Result<(), Error> {
                     };
                     for &a in algs {
                         for &d in dims {
-                            out.push(test_problem(a, f, d, population, iterations, seed)?);
+                            out.push(test_problem(a, f, d, population, iterations, seed, None)?);
                         }
                     }
                 }
@@ -244,9 +286,52 @@ fn main_inner() -> Result<(), Error> {
                     Error::BadArgument(format!("unknown test problem `{function}`"))
                 })?;
                 print(&test_problem(
-                    &algorithm, f, dim, population, iterations, seed,
+                    &algorithm,
+                    f,
+                    dim,
+                    population,
+                    iterations,
+                    seed,
+                    plot.as_deref(),
                 )?)
             }
+        }
+        Command::Front {
+            kind,
+            sample,
+            population,
+            generations,
+            seed,
+            out,
+        } => {
+            let cfg = infer::Config::default();
+            let kind: DigType = kind.parse()?;
+            let query = match sample {
+                Some(s) => {
+                    let sampler = dataset_gen::sampler::QuerySampler::default();
+                    sampler.sample(kind, &mut rng_from_seed(s))?.0
+                }
+                None if kind == DigType::Downward => infer::query::reference_dig(&cfg)?.0,
+                None => {
+                    return Err(Error::BadArgument(
+                        "the reference dig is downward; give --sample SEED for a backward dig"
+                            .into(),
+                    ));
+                }
+            };
+            let f = front::dig_front(&cfg, &query, population, generations, seed)?;
+            let (json, svg) = (out.with_extension("json"), out.with_extension("svg"));
+            std::fs::write(&json, serde_json::to_string_pretty(&f)?).map_err(|source| {
+                Error::Io {
+                    path: json.clone(),
+                    source,
+                }
+            })?;
+            front::dig_front_svg(&svg, &f)?;
+            print(&serde_json::json!({
+                "json": json, "svg": svg, "front_size": f.points.len(),
+                "chosen": f.chosen, "pso": f.pso,
+            }))
         }
         Command::Quality {
             queries,
