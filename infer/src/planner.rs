@@ -18,8 +18,9 @@
 //! ([`PlannerSettings::rollouts`]) the best few are compared by playing the
 //! rest of the task out on a spare surface. If no candidate is feasible,
 //! the least infeasible are repaired (time rescaling, then the bounded
-//! refinement); if that fails for the first dig the error names the
-//! constraint, and after it the plan ends there with the reason
+//! refinement; a refined dig is then polished, its objective lowered
+//! while it keeps its design material); if repair fails for the first dig
+//! the error names the constraint, and after it the plan ends there with the reason
 //! ([`PlanState::stopped`]) and the rest counted as under-dug. The task
 //! ends when the material left would not fill the bucket to V_min. When a
 //! start is nearer to the machine than its type's query range allows, the
@@ -119,6 +120,12 @@ pub struct PlannerSettings {
     /// The refinement that reshapes the best candidate to remove more
     /// design material (budget 0: digs are used as predicted when feasible).
     pub fit: RepairSettings,
+    /// The refinement that then lowers a repaired dig's objective (the
+    /// repair seeks design material, not a good dig); budget 0: none.
+    pub polish: RepairSettings,
+    /// How much less design material the polished dig may remove, per
+    /// V_max of material.
+    pub polish_keep: f64,
 }
 
 impl Default for PlannerSettings {
@@ -159,6 +166,11 @@ impl Default for PlannerSettings {
                 budget: 120,
                 ..RepairSettings::default()
             },
+            polish: RepairSettings {
+                budget: 120,
+                ..RepairSettings::default()
+            },
+            polish_keep: 0.02,
         }
     }
 }
@@ -652,6 +664,17 @@ impl Planner {
                 }
             }
         }
+        // A repaired dig sought design material only: lower its objective
+        // while it keeps (nearly) that material.
+        let chosen = match chosen {
+            Some(mut t) if full && s.polish.budget > 0 && t.outcome == Outcome::Refined => {
+                let (params, used) = self.polish(target, scene, carve, &t.candidate, &t.params)?;
+                evaluations += used;
+                t.params = params;
+                Some(t)
+            }
+            other => other,
+        };
         let Some(t) = chosen else {
             let error = why.unwrap_or(PlanError::TooLittleMaterial {
                 dig: index,
@@ -815,6 +838,19 @@ impl Planner {
         carve: &CarveBuffer,
         a: &Assessment,
     ) -> f64 {
+        self.material(terrain, design, carve, a)
+            - self.settings.weight_objective * a.report.objective
+    }
+
+    /// Design material a dig removes less what it cuts below the design,
+    /// per V_max of material.
+    fn material(
+        &self,
+        terrain: &Terrain,
+        design: &DesignProfile,
+        carve: &CarveBuffer,
+        a: &Assessment,
+    ) -> f64 {
         let t = terrain;
         let (lo, carved) = carve.window();
         let removed: f64 = carved
@@ -829,7 +865,42 @@ impl Planner {
         let s = &self.settings;
         let per = self.cfg.objective.volume[1] / self.cfg.machine.bucket_width;
         (removed * t.dx() - s.weight_over_dig * a.over_dig.area) / per
-            - s.weight_objective * a.report.objective
+    }
+
+    /// Lowers a chosen dig's objective (bounded Nelder–Mead) while it
+    /// removes at least `polish_keep` less design material than before.
+    fn polish(
+        &self,
+        target: &Target,
+        scene: &Scene,
+        carve: &mut CarveBuffer,
+        c: &Candidate,
+        params: &DigParams,
+    ) -> Result<(DigParams, usize), Error> {
+        let s = &self.settings;
+        let (design, guard) = (&target.design, Some(&target.guard));
+        let terrain = &scene.terrain;
+        let ground = c.ground(terrain);
+        let task = c.query.task();
+        let a0 = assess(&self.cfg, &task, params, ground, carve, guard)?;
+        let m0 = self.material(terrain, design, carve, &a0) - s.polish_keep;
+        let (best, used) = refine_by(
+            &self.cfg,
+            &task,
+            params,
+            ground,
+            carve,
+            guard,
+            &s.polish,
+            |a, carve| {
+                a.report.objective + 10.0 * (m0 - self.material(terrain, design, carve, a)).max(0.0)
+            },
+        );
+        let a = assess(&self.cfg, &task, &best, ground, carve, guard)?;
+        let keep = a.feasible
+            && self.material(terrain, design, carve, &a) >= m0
+            && a.report.objective < a0.report.objective;
+        Ok((if keep { best } else { *params }, used + 2))
     }
 
     /// Refines `params` (bounded Nelder–Mead, [`refine_by`]) towards the

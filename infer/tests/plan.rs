@@ -444,3 +444,68 @@ fn shipped_networks_plan_tasks_a_to_d() {
         check_plan(&planner, &task, &mut pair);
     }
 }
+
+/// Polishing a repaired dig lowers its objective and keeps its design
+/// material to within `polish_keep` of V_max (task B's second dig is
+/// repaired by the shipped networks' planner).
+#[test]
+fn polish_lowers_a_repaired_digs_objective_and_keeps_its_material() {
+    let (down, back) = (shipped(DigType::Downward), shipped(DigType::Backward));
+    let mut pair = infer::NetworkPair {
+        downward: down.network().unwrap(),
+        backward: back.network().unwrap(),
+    };
+    let cfg = Config::default();
+    let polished = PlannerSettings::default();
+    assert!(polished.polish.budget > 0);
+    let plain = PlannerSettings {
+        polish: RepairSettings {
+            budget: 0,
+            ..polished.polish
+        },
+        ..polished
+    };
+    let planners = [polished, plain].map(|s| Planner::new(&cfg, &s).unwrap());
+    let task = TrenchTask::reference('B').unwrap();
+    // Boxed: a plan state holds fixed-size terrains.
+    let mut states: Vec<Box<infer::PlanState>> = planners
+        .iter()
+        .map(|p| Box::new(p.start(&task).unwrap()))
+        .collect();
+    let per = cfg.objective.volume[1] / cfg.machine.bucket_width;
+    let mut compared = 0;
+    for _ in 0..4 {
+        let before = Box::new(states[0].terrain().clone());
+        if before.heights() != states[1].terrain().heights() {
+            break;
+        }
+        let [Some(p), Some(q)] =
+            [0, 1].map(|k| planners[k].next_dig(&mut states[k], &mut pair).unwrap())
+        else {
+            break;
+        };
+        if p.outcome != Outcome::Refined {
+            assert_eq!(p.params, q.params, "only repaired digs are polished");
+            continue;
+        }
+        let design = *states[0].design();
+        let removed = |after: &infer::Terrain| {
+            let (lo, hi) = (design.near_edge, design.far_edge);
+            design.remaining_area(&before, lo, hi) - design.remaining_area(after, lo, hi)
+        };
+        let (m_p, m_q) = (removed(states[0].terrain()), removed(states[1].terrain()));
+        assert!(p.report.feasible);
+        assert!(
+            p.report.objective < q.report.objective,
+            "{} vs {}",
+            p.report.objective,
+            q.report.objective
+        );
+        assert!(
+            m_p >= m_q - polished.polish_keep * per - 1e-9,
+            "{m_p} vs {m_q}"
+        );
+        compared += 1;
+    }
+    assert!(compared > 0, "no repaired dig to compare");
+}
