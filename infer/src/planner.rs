@@ -55,6 +55,9 @@ pub const MAX_DIGS: usize = 64;
 pub const MAX_ROLLOUTS: usize = 8;
 /// Most infeasible candidates repaired per dig.
 pub const MAX_REPAIRS: usize = 8;
+/// Polish cost per V_max of design material lost past `polish_keep`:
+/// large next to objectives of order 1, so the polish does not trade it.
+const POLISH_PENALTY: f64 = 10.0;
 
 /// Everything the planner lets a caller tune; the defaults plan tasks A–D.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -868,7 +871,8 @@ impl Planner {
     }
 
     /// Lowers a chosen dig's objective (bounded Nelder–Mead) while it
-    /// removes at least `polish_keep` less design material than before.
+    /// removes at most `polish_keep` less design material than before:
+    /// the dig to use and the evaluations spent.
     fn polish(
         &self,
         target: &Target,
@@ -878,35 +882,31 @@ impl Planner {
         params: &DigParams,
     ) -> Result<(DigParams, usize), Error> {
         let s = &self.settings;
-        let (design, guard) = (&target.design, Some(&target.guard));
-        let terrain = &scene.terrain;
-        let ground = c.ground(terrain);
+        let (design, terrain) = (&target.design, &scene.terrain);
         let task = c.query.task();
-        let a0 = assess(&self.cfg, &task, params, ground, carve, guard)?;
-        let m0 = self.material(terrain, design, carve, &a0) - s.polish_keep;
-        let (best, used) = refine_by(
+        let a0 = assess(
             &self.cfg,
             &task,
             params,
-            ground,
+            c.ground(terrain),
             carve,
-            guard,
-            &s.polish,
-            |a, carve| {
-                a.report.objective + 10.0 * (m0 - self.material(terrain, design, carve, a)).max(0.0)
-            },
-        );
-        let a = assess(&self.cfg, &task, &best, ground, carve, guard)?;
-        let keep = a.feasible
-            && self.material(terrain, design, carve, &a) >= m0
+            Some(&target.guard),
+        )?;
+        let keep = self.material(terrain, design, carve, &a0) - s.polish_keep;
+        let (best, a, used) =
+            self.refine_on(target, scene, carve, c, params, &s.polish, |a, carve| {
+                let lost = keep - self.material(terrain, design, carve, a);
+                a.report.objective + POLISH_PENALTY * lost.max(0.0)
+            })?;
+        let better = a.feasible
+            && self.material(terrain, design, carve, &a) >= keep
             && a.report.objective < a0.report.objective;
-        Ok((if keep { best } else { *params }, used + 2))
+        Ok((if better { best } else { *params }, used + 1))
     }
 
-    /// Refines `params` (bounded Nelder–Mead, [`refine_by`]) towards the
-    /// highest [`Self::score`] among feasible digs: the result with its
-    /// score, assessment (feasible or not) and the evaluations spent; its
-    /// carving is left in `carve`.
+    /// Refines `params` towards the highest [`Self::score`] among feasible
+    /// digs: the result with its score, assessment (feasible or not) and
+    /// the evaluations spent; its carving is left in `carve`.
     fn fit(
         &self,
         target: &Target,
@@ -916,23 +916,38 @@ impl Planner {
         params: &DigParams,
         settings: &RepairSettings,
     ) -> Result<(f64, DigParams, Assessment, usize), Error> {
-        let (design, guard) = (&target.design, Some(&target.guard));
-        let terrain = &scene.terrain;
-        let ground = c.ground(terrain);
+        let (design, terrain) = (&target.design, &scene.terrain);
+        let (best, a, used) =
+            self.refine_on(target, scene, carve, c, params, settings, |a, carve| {
+                -self.score(terrain, design, carve, a)
+            })?;
+        let score = self.score(terrain, design, carve, &a);
+        Ok((score, best, a, used))
+    }
+
+    /// Bounded Nelder–Mead ([`refine_by`]) of candidate `c` from `params`
+    /// towards the lowest `cost` among feasible digs on the scene's
+    /// surface under the guard: the result, its assessment (its carving
+    /// left in `carve`) and the evaluations spent.
+    #[allow(clippy::too_many_arguments)]
+    fn refine_on(
+        &self,
+        target: &Target,
+        scene: &Scene,
+        carve: &mut CarveBuffer,
+        c: &Candidate,
+        params: &DigParams,
+        settings: &RepairSettings,
+        cost: impl FnMut(&Assessment, &CarveBuffer) -> f64,
+    ) -> Result<(DigParams, Assessment, usize), Error> {
+        let guard = Some(&target.guard);
+        let ground = c.ground(&scene.terrain);
         let task = c.query.task();
         let (best, used) = refine_by(
-            &self.cfg,
-            &task,
-            params,
-            ground,
-            carve,
-            guard,
-            settings,
-            |a, carve| -self.score(terrain, design, carve, a),
+            &self.cfg, &task, params, ground, carve, guard, settings, cost,
         );
         let a = assess(&self.cfg, &task, &best, ground, carve, guard)?;
-        let score = self.score(terrain, design, carve, &a);
-        Ok((score, best, a, used + 1))
+        Ok((best, a, used + 1))
     }
 
     /// The dig of `kind` starting on the surface at `x_s` (terrain frame)
