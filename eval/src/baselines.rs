@@ -13,7 +13,7 @@ use dataset_gen::dig_problem::{DigBounds, DigProblem, objective_for, solve_probl
 use dataset_gen::rng::rng_from_seed;
 use dataset_gen::runner::Budget;
 use infer::repair::{DesignGuard, assess};
-use infer::{CarveBuffer, Config, DigParams, DigReport, Ground, Planner};
+use infer::{CarveBuffer, Config, DigParams, DigReport, Ground};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -150,17 +150,6 @@ impl DigFigures {
             within_design: false,
             seconds,
         }
-    }
-}
-
-/// The guard the planner puts on every dig of a task (its settings' limits
-/// on the cut below the design profile).
-pub fn design_guard(planner: &Planner, design: &infer::DesignProfile) -> DesignGuard {
-    let s = planner.settings();
-    DesignGuard {
-        profile: *design,
-        max_depth: s.over_dig_depth,
-        max_area: s.over_dig_area * design.area(),
     }
 }
 

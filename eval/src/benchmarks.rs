@@ -5,7 +5,7 @@
 //! network's objective relative to PSO's on those digs. Each figure names
 //! how it was measured; the machine and its load are recorded with them.
 
-use crate::baselines::{Baseline, design_guard, solve_again};
+use crate::baselines::{Baseline, solve_again};
 use crate::digs::dig_seed;
 use crate::error::{EvalError, write_file};
 use crate::evaluation::load_average;
@@ -188,7 +188,7 @@ pub fn measure(
     let (mut obj_net, mut obj_pso, mut n) = (0.0, 0.0, 0usize);
     for (t, run) in tasks.iter().zip(&first) {
         for (d, step) in run.steps.iter().enumerate() {
-            let guard = design_guard(&planner, &run.plan.design);
+            let guard = planner.guard(&run.plan.design);
             let f = solve_again(
                 &cfg,
                 step,

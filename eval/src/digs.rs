@@ -3,7 +3,7 @@
 //! surface, with per-dig seeds so the numbers do not depend on the number
 //! of threads.
 
-use crate::baselines::{Baseline, DigFigures, design_guard, solve_again};
+use crate::baselines::{Baseline, DigFigures, solve_again};
 use crate::planning::PlanRun;
 use dataset_gen::rng::derive_seed;
 use infer::{DigType, Outcome, Planner, Pose};
@@ -78,7 +78,7 @@ pub fn compare_digs(
             let (name, run) = runs[t];
             let step = &run.steps[d];
             let dig = &step.dig;
-            let guard = design_guard(planner, &run.plan.design);
+            let guard = planner.guard(&run.plan.design);
             let network = DigFigures::from_report(
                 dig.params.to_array(),
                 &dig.report,

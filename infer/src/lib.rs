@@ -13,7 +13,9 @@
 //! ([`network`], no burn), the validation and repair of a predicted dig
 //! ([`repair`]), trenching tasks and their design profile ([`trench`]), and
 //! the continuous trench planner ([`planner`]: a task becomes a sequence of
-//! feasible digs, each planned on the surface the last one left).
+//! feasible digs, each planned on the surface the last one left), and with
+//! `std` whole plans ([`plan`]) and their replay under the exact model
+//! ([`verify`]), so a plan file can be checked on its own.
 //!
 //! It builds without `std` (`default-features = false`) and never allocates
 //! on the heap: evaluation works in a caller-owned [`CarveBuffer`], so the
@@ -38,6 +40,8 @@ pub mod resistance;
 pub mod terrain;
 pub mod trajectory;
 pub mod trench;
+#[cfg(feature = "std")]
+pub mod verify;
 
 pub use config::{Config, DigAngles, Machine, Objective, Soil};
 pub use dig::{

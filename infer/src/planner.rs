@@ -399,13 +399,27 @@ impl Planner {
         Ok(n)
     }
 
+    /// The guard every dig of a task with this design must meet.
+    pub fn guard(&self, design: &DesignProfile) -> DesignGuard {
+        DesignGuard {
+            profile: *design,
+            max_depth: self.settings.over_dig_depth,
+            max_area: self.settings.over_dig_area * design.area(),
+        }
+    }
+
+    /// The surface a task starts from: flat ground at y_g around the design.
+    pub fn initial_terrain(&self, design: &DesignProfile) -> Result<Terrain, Error> {
+        let x0 = (design.near_edge - 1.2).min(-0.2);
+        let x1 = (design.far_edge + 0.4).max(1.5);
+        Terrain::flat(x0, x1, self.cfg.terrain_dx, self.cfg.ground_level)
+    }
+
     /// A fresh state for `task`: flat ground at y_g, machine at base_x = 0.
     pub fn start(&self, task: &TrenchTask) -> Result<PlanState, PlanError> {
         let expected = self.digs_for(task)?;
         let design = DesignProfile::new(&self.cfg, task);
-        let x0 = (design.near_edge - 1.2).min(-0.2);
-        let x1 = (design.far_edge + 0.4).max(1.5);
-        let terrain = Terrain::flat(x0, x1, self.cfg.terrain_dx, self.cfg.ground_level)?;
+        let terrain = self.initial_terrain(&design)?;
         let scene = Scene {
             terrain,
             base_x: 0.0,
@@ -417,11 +431,7 @@ impl Planner {
             task: *task,
             target: Target {
                 design,
-                guard: DesignGuard {
-                    profile: design,
-                    max_depth: self.settings.over_dig_depth,
-                    max_area: self.settings.over_dig_area * design.area(),
-                },
+                guard: self.guard(&design),
             },
             expected,
             rollout: scene.clone(),

@@ -509,3 +509,63 @@ fn polish_lowers_a_repaired_digs_objective_and_keeps_its_material() {
     }
     assert!(compared > 0, "no repaired dig to compare");
 }
+
+/// A plan replays under the exact model; edits to its figures, surfaces or
+/// order are named.
+#[test]
+fn plans_replay_and_edits_are_caught() {
+    use infer::verify::VerifyError;
+    let (down, back) = (shipped(DigType::Downward), shipped(DigType::Backward));
+    let mut pair = infer::NetworkPair {
+        downward: down.network().unwrap(),
+        backward: back.network().unwrap(),
+    };
+    let planner = Planner::new(&Config::default(), &PlannerSettings::default()).unwrap();
+    let plan = planner
+        .plan(&TrenchTask::reference('B').unwrap(), &mut pair)
+        .unwrap();
+    // Task B: two digs, the second cutting a little below the design.
+    assert!(plan.digs.len() >= 2 && plan.metrics.over_dug > 0.0);
+    assert_eq!(plan.verify(&planner).unwrap(), plan.metrics);
+
+    let mut edited = plan.clone();
+    edited.digs[1].dig.report.energy *= 0.9;
+    assert!(matches!(
+        edited.verify(&planner),
+        Err(VerifyError::Figure {
+            dig: 1,
+            what: "energy",
+            ..
+        })
+    ));
+    let mut edited = plan.clone();
+    edited.digs[0].surface_after.heights[50] -= 0.002;
+    assert!(matches!(
+        edited.verify(&planner),
+        Err(VerifyError::Surface { dig: 0, .. })
+    ));
+    let mut edited = plan.clone();
+    edited.digs.swap(0, 1);
+    assert!(matches!(
+        edited.verify(&planner),
+        Err(VerifyError::Order {
+            dig: 0,
+            recorded: 1
+        })
+    ));
+    let mut edited = plan.clone();
+    edited.metrics.under_dug *= 0.5;
+    assert!(matches!(
+        edited.verify(&planner),
+        Err(VerifyError::Metrics { .. })
+    ));
+    // A guard tighter than the one the plan was made under.
+    let strict = PlannerSettings {
+        over_dig_depth: 0.0,
+        over_dig_area: 0.0,
+        ..PlannerSettings::default()
+    };
+    let strict = Planner::new(&Config::default(), &strict).unwrap();
+    let r = plan.verify(&strict);
+    assert!(matches!(r, Err(VerifyError::Infeasible { .. })), "{r:?}");
+}

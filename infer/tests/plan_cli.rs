@@ -97,3 +97,49 @@ fn bad_tasks_and_missing_networks_are_clear_errors() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("between 0° and 90°"));
 }
+
+/// `--verify` replays a plan file: 0 when it holds, 1 when a dig was
+/// edited past a constraint, 2 when the file is not a plan.
+#[test]
+fn verify_replays_a_plan_file() {
+    let dir = std::env::temp_dir().join(format!("plan-verify-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let networks = concat!(env!("CARGO_MANIFEST_DIR"), "/../artifacts");
+    let stem = dir.join("c");
+    let o = plan(&[
+        "--task",
+        "C",
+        "--networks",
+        networks,
+        "-o",
+        stem.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let file = dir.join("c.json");
+    let o = plan(&["--verify", file.to_str().unwrap()]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(String::from_utf8_lossy(&o.stdout).contains("replayed under the exact model"));
+
+    // Twice as fast: the joints break their speed or acceleration limits.
+    let mut p: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    let t = p["digs"][0]["params"]["duration"].as_f64().unwrap();
+    p["digs"][0]["params"]["duration"] = serde_json::json!(t / 2.0);
+    let edited = dir.join("edited.json");
+    std::fs::write(&edited, p.to_string()).unwrap();
+    let o = plan(&["--verify", edited.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("dig 1 breaks a constraint"), "{err}");
+
+    std::fs::write(&edited, "{\"digs\": 3}").unwrap();
+    let o = plan(&["--verify", edited.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("not a plan file"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

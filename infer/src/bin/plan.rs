@@ -1,5 +1,6 @@
 //! `plan`: plan a trenching task into a feasible sequence of digs and write
-//! the plan as JSON and an SVG picture.
+//! the plan as JSON and an SVG picture; or replay a plan file under the
+//! exact model (`--verify`).
 
 mod common;
 
@@ -55,6 +56,12 @@ struct Args {
     /// Planner settings as JSON (any field left out keeps its default).
     #[arg(long)]
     settings: Option<PathBuf>,
+    /// Replay this plan file (JSON, as written here) under the exact model
+    /// instead of planning: every dig in order must be feasible, within the
+    /// design guard, and give the recorded figures and surfaces. Exit code
+    /// 0 if it does, 1 if it does not, 2 for unreadable input.
+    #[arg(long, conflicts_with_all = ["task", "task_file", "length", "refine"])]
+    verify: Option<PathBuf>,
 }
 
 /// A task file, angles in degrees.
@@ -69,11 +76,51 @@ struct TaskFile {
 }
 
 fn main() -> ExitCode {
-    match run(Args::parse()) {
+    let args = Args::parse();
+    if let Some(path) = &args.verify {
+        return verify(&args, path);
+    }
+    match run(args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::from(2)
+        }
+    }
+}
+
+/// `--verify`: 0 when the plan replays, 1 when it does not, 2 for bad input.
+fn verify(args: &Args, path: &Path) -> ExitCode {
+    let input = || -> Result<(Plan, Planner), String> {
+        let cfg: Config = common::json_or_default(args.config.as_deref())?;
+        let settings: PlannerSettings = common::json_or_default(args.settings.as_deref())?;
+        let planner = Planner::new(&cfg, &settings).map_err(|e| e.to_string())?;
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let plan: Plan = serde_json::from_str(&text)
+            .map_err(|e| format!("{}: not a plan file: {e}", path.display()))?;
+        Ok((plan, planner))
+    };
+    let (plan, planner) = match input() {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    match plan.verify(&planner) {
+        Ok(m) => {
+            println!(
+                "{}: {} digs replayed under the exact model: each feasible and within the design guard on the surface before it, with the recorded figures and surfaces; under-dug {:.2} %, over-dug {:.2} %",
+                path.display(),
+                plan.digs.len(),
+                m.under_dug * 100.0,
+                m.over_dug * 100.0
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("{}: does not verify: {e}", path.display());
+            ExitCode::from(1)
         }
     }
 }
