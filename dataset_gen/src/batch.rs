@@ -348,17 +348,7 @@ pub fn run(cfg: &GenConfig, dir: &Path, opts: &RunOptions) -> Result<Summary, Er
         .iter()
         .map(|&p| cfg.part_range(p).count() as u64)
         .sum();
-    let bar = if opts.progress {
-        indicatif::ProgressBar::new(todo)
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} samples  {per_sec}  ETA {eta}",
-        )
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
+    let bar = progress_bar(todo, "samples", opts.progress);
     let config_json = cfg.to_json()?;
     let mut computed = Vec::new();
     // Several parts at a time keep every thread busy at part boundaries.
@@ -479,4 +469,20 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Summary, Error> {
         per_type: summarise(&samples),
         output: Some(path),
     })
+}
+
+/// A bar over `len` units with rate and ETA (hidden when `shown` is false).
+pub fn progress_bar(len: u64, units: &str, shown: bool) -> indicatif::ProgressBar {
+    let bar = if shown {
+        indicatif::ProgressBar::new(len)
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(&format!(
+            "{{spinner}} [{{elapsed_precise}}] {{msg}} {{wide_bar}} {{pos}}/{{len}} {units}  {{per_sec}}  ETA {{eta}}"
+        ))
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar
 }

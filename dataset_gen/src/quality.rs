@@ -3,7 +3,7 @@
 //! iterations, and optimisations per second.
 
 use crate::algorithms::AnyAlgorithm;
-use crate::batch::GenConfig;
+use crate::batch::{GenConfig, progress_bar};
 use crate::dig_problem::{DigSolution, solve};
 use crate::error::Error;
 use crate::problem::compare_single;
@@ -61,28 +61,40 @@ pub struct QualityReport {
     pub elapsed_s: f64,
 }
 
+/// Solves every query with `alg`, a bar showing the rate and ETA.
 fn run_all(
     cfg: &GenConfig,
     queries: &[DigQuery],
     alg: &AnyAlgorithm,
     iterations: usize,
     seed: u64,
+    progress: bool,
 ) -> Result<Vec<DigSolution>, Error> {
-    queries
+    let bar = progress_bar(queries.len() as u64, "queries", progress);
+    bar.set_message(format!(
+        "{} {} x {iterations}",
+        alg.name(),
+        alg.population()
+    ));
+    let out = queries
         .par_iter()
         .enumerate()
         .map(|(i, q)| {
             let mut rng = rng_from_seed(derive_seed(seed ^ 0xA5A5, i as u64));
-            solve(
+            let s = solve(
                 &cfg.model,
                 q,
                 &cfg.bounds,
                 alg,
                 Budget::iterations(iterations),
                 &mut rng,
-            )
+            );
+            bar.inc(1);
+            s
         })
-        .collect()
+        .collect();
+    bar.finish();
+    out
 }
 
 fn quality_of(
@@ -133,19 +145,14 @@ pub fn quality(
     let mut long = Vec::new();
     for (name, pop, iters) in SOURCE_SETTINGS {
         let alg = AnyAlgorithm::by_name(name, pop)?;
-        if progress {
-            eprintln!("{name}: {pop} x {iters} on {n} queries ...");
-        }
-        normal.push(run_all(&base, &queries, &alg, iters, seed)?);
-        if progress {
-            eprintln!("{name}: {pop} x {} on {n} queries ...", iters * multiplier);
-        }
+        normal.push(run_all(&base, &queries, &alg, iters, seed, progress)?);
         long.push(run_all(
             &base,
             &queries,
             &alg,
             iters * multiplier,
             seed.wrapping_add(1),
+            progress,
         )?);
     }
     let best: Vec<Option<f64>> = (0..n)
@@ -208,7 +215,7 @@ pub fn throughput(
     let queries = fixed_queries(n, seed)?;
     let base = GenConfig::new(alg.clone(), 1, seed);
     let started = Instant::now();
-    let sols = run_all(&base, &queries, alg, iterations, seed)?;
+    let sols = run_all(&base, &queries, alg, iterations, seed, false)?;
     let elapsed = started.elapsed().as_secs_f64();
     let evals: u64 = sols.iter().map(|s| s.evaluations).sum();
     Ok(Throughput {
