@@ -88,6 +88,11 @@ pub struct DigProblem {
     lo: Vec<f64>,
     hi: Vec<f64>,
     pub objective: DigObjective,
+    /// Under the Pareto objective, the evaluated point with the best
+    /// weighted objective by Deb's rules (f holds that objective): the
+    /// member of the archive of every non-dominated point evaluated that a
+    /// multi-objective run's answer is chosen from.
+    best_weighted: Option<Individual>,
 }
 
 impl DigProblem {
@@ -154,6 +159,7 @@ impl DigProblem {
             lo,
             hi,
             objective,
+            best_weighted: None,
         })
     }
 
@@ -243,7 +249,19 @@ impl Problem for DigProblem {
                 f[0] = r.duration;
                 f[1] = r.energy_wh();
                 f[2] = -r.volume * 1e3;
-                r.total_violation()
+                let v = r.total_violation();
+                if self
+                    .best_weighted
+                    .as_ref()
+                    .is_none_or(|b| compare_single(v, r.objective, b.violation, b.f[0]).is_lt())
+                {
+                    self.best_weighted = Some(Individual {
+                        x: x.to_vec(),
+                        f: vec![r.objective],
+                        violation: v,
+                    });
+                }
+                v
             }
             (Err(_), _) => {
                 f.fill(f64::INFINITY);
@@ -293,19 +311,27 @@ pub fn objective_for(algorithm: &AnyAlgorithm) -> DigObjective {
     }
 }
 
-/// The member of a multi-objective run chosen as its answer: the one with
-/// the best weighted objective by Deb's rules, from the front plus the best
-/// point by T alone (in case the front lost feasibility that some
-/// evaluated point had).
-pub fn weighted_choice<'r>(problem: &mut DigProblem, run: &'r RunResult) -> &'r Individual {
+/// The answer of a multi-objective run: the point with the best weighted
+/// objective by Deb's rules among the final front, the best point by T
+/// alone and every point the run evaluated. Under positive weights that
+/// point is non-dominated among all evaluated points, so it is a member of
+/// the run's archive of non-dominated points (the final population's front
+/// holds only 100 of them, spread over the whole trade-off).
+pub fn weighted_choice(problem: &mut DigProblem, run: &RunResult) -> Individual {
     let mut best: Option<(f64, f64, &Individual)> = None;
-    for m in run.front.iter().chain(std::iter::once(&run.best)) {
+    let archived = problem.best_weighted.clone();
+    for m in run
+        .front
+        .iter()
+        .chain(std::iter::once(&run.best))
+        .chain(archived.as_ref())
+    {
         let (f, v) = problem.weighted(&m.x);
         if best.is_none_or(|(bf, bv, _)| compare_single(v, f, bv, bf).is_lt()) {
             best = Some((f, v, m));
         }
     }
-    best.map_or(&run.best, |(_, _, m)| m)
+    best.map_or(&run.best, |(_, _, m)| m).clone()
 }
 
 /// Optimises one query with `algorithm` (PSO/GWO on the weighted objective,
@@ -341,11 +367,12 @@ pub fn solve_problem(
             problem.objective
         )));
     }
+    problem.best_weighted = None;
     let runner = Runner::new(budget, 0);
     let run: RunResult = algorithm.run(&runner, problem, rng)?;
     let chosen: Individual = match objective {
         DigObjective::Weighted => run.best.clone(),
-        DigObjective::Pareto => weighted_choice(problem, &run).clone(),
+        DigObjective::Pareto => weighted_choice(problem, &run),
     };
     let params = DigProblem::to_params(&chosen.x);
     let report = problem.report(&params).ok();

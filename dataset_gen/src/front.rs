@@ -1,6 +1,6 @@
 //! Pareto fronts as data and pictures. NSGA-II's final front on one dig
-//! (T, W_E, V), with the member a dataset keeps (the best weighted
-//! objective) and PSO's optimum of the same query beside it, shows where
+//! (T, W_E, V), with the dig a dataset keeps (the best weighted member of
+//! its archive of non-dominated points) and PSO's optimum of the same query beside it, shows where
 //! the trade-off lies and why the two optimisers' samples differ; a ZDT
 //! front drawn over the true one shows how far a run got.
 
@@ -43,7 +43,7 @@ impl FrontPoint {
     }
 }
 
-/// NSGA-II's final front on one query, the member chosen from it, and PSO's
+/// NSGA-II's final front on one query, the dig chosen from its archive, and PSO's
 /// optimum at the same iteration budget and seed.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DigFront {
@@ -53,7 +53,8 @@ pub struct DigFront {
     pub seed: u64,
     /// The final non-dominated set, by T.
     pub points: Vec<FrontPoint>,
-    /// The member with the best weighted objective (what a dataset keeps).
+    /// The archive member with the best weighted objective (what a dataset
+    /// keeps; it need not be in the final population).
     pub chosen: FrontPoint,
     /// PSO (50 particles) on the weighted objective.
     pub pso: FrontPoint,
@@ -87,7 +88,7 @@ pub fn dig_front(
         .map(|m| point_of(&mut problem, m))
         .collect::<Result<Vec<_>, _>>()?;
     points.sort_by(|a, b| a.duration_s.total_cmp(&b.duration_s));
-    let chosen = weighted_choice(&mut problem, &run).clone();
+    let chosen = weighted_choice(&mut problem, &run);
     let chosen = point_of(&mut problem, &chosen)?;
     let pso = AnyAlgorithm::by_name("pso", 50)?;
     let s = solve(
@@ -170,7 +171,10 @@ fn dig_panel(
     chart
         .draw_series([Circle::new((c.duration_s, y(c)), 7, RED.stroke_width(2))])
         .map_err(|x| e(x.to_string()))?
-        .label(format!("chosen by weighted objective ({:.3})", c.objective))
+        .label(format!(
+            "kept: best weighted in archive ({:.3})",
+            c.objective
+        ))
         .legend(|(x, y)| Circle::new((x, y), 6, RED.stroke_width(2)));
     let p = &front.pso;
     let green = RGBColor(44, 160, 44);

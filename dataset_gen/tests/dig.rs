@@ -1,10 +1,12 @@
 //! The single-dig problem and the query sampler.
 
 use dataset_gen::algorithms::AnyAlgorithm;
-use dataset_gen::dig_problem::{DigBounds, DigObjective, DigProblem, EVAL_ERROR_VIOLATION, solve};
+use dataset_gen::dig_problem::{
+    DigBounds, DigObjective, DigProblem, EVAL_ERROR_VIOLATION, solve, weighted_choice,
+};
 use dataset_gen::problem::Problem;
 use dataset_gen::rng::rng_from_seed;
-use dataset_gen::runner::Budget;
+use dataset_gen::runner::{Budget, RunResult, StopReason};
 use dataset_gen::sampler::QuerySampler;
 use infer::{Config, DigQuery, DigType, forward};
 
@@ -52,6 +54,55 @@ fn nsga2_picks_the_best_weighted_front_member() {
     assert!(s.feasible(), "{s:?}");
     assert!(s.front_size >= 1);
     assert!(s.objective() < 0.45, "{}", s.objective());
+}
+
+/// A multi-objective run's answer is the best weighted point it evaluated,
+/// even when that point left the final front.
+#[test]
+fn nsga2_answer_is_the_best_weighted_point_evaluated() {
+    let (cfg, q) = example();
+    let mut p = DigProblem::new(&cfg, &q, &DigBounds::default(), DigObjective::Pareto).unwrap();
+    // Digs around the reference dig's optimum, most of them feasible.
+    let centre = DigProblem::from_params(&infer::DigParams::from_array(infer::query::REFERENCE_Y));
+    let spread = [0.05, 0.05, 0.05, 0.5];
+    let mut rng = rng_from_seed(9);
+    let mut seen = Vec::new();
+    for _ in 0..200 {
+        let x: Vec<f64> = (0..4)
+            .map(|j| centre[j] + dataset_gen::rng::uniform_in(&mut rng, -spread[j], spread[j]))
+            .collect();
+        let mut f = [0.0; 3];
+        let violation = p.evaluate(&x, &mut f);
+        seen.push(dataset_gen::problem::Individual {
+            x,
+            f: f.to_vec(),
+            violation,
+        });
+    }
+    let mut feasible: Vec<(f64, &dataset_gen::problem::Individual)> = seen
+        .iter()
+        .filter_map(|i| {
+            let (f, v) = p.weighted(&i.x);
+            (v <= 0.0).then_some((f, i))
+        })
+        .collect();
+    feasible.sort_by(|a, b| a.0.total_cmp(&b.0));
+    assert!(feasible.len() >= 2, "too few feasible random digs");
+    let (best, worst) = (feasible[0], feasible[feasible.len() - 1].1);
+    // A front holding only the worst feasible point: the answer must not come from it.
+    let run = RunResult {
+        algorithm: "nsga2",
+        best: worst.clone(),
+        front: vec![worst.clone()],
+        iterations: 0,
+        evaluations: 200,
+        stop: StopReason::Iterations,
+        wall_time_s: 0.0,
+        history: Vec::new(),
+    };
+    let chosen = weighted_choice(&mut p, &run);
+    assert_eq!(chosen.x, best.1.x);
+    assert!(best.0 < p.weighted(&worst.x).0);
 }
 
 #[test]

@@ -6,10 +6,12 @@ use dataset_gen::Error;
 use dataset_gen::algorithms::nsga2::{
     crowding_distance, fast_non_dominated_sort, hypervolume_2d, select_survivors,
 };
-use dataset_gen::algorithms::{AnyAlgorithm, Gwo, GwoInit, Nsga2, Pso, PsoVariant};
+use dataset_gen::algorithms::{
+    Algorithm, AnyAlgorithm, Gwo, GwoInit, Nsga2, Pso, PsoVariant, better,
+};
 use dataset_gen::problem::{Individual, Problem};
 use dataset_gen::rng::rng_from_seed;
-use dataset_gen::runner::{Budget, Runner, StopReason};
+use dataset_gen::runner::{Budget, Evaluator, Runner, StopReason};
 use dataset_gen::testfns::{TestFn, TestProblem};
 
 fn run(
@@ -315,4 +317,25 @@ fn constrained_best_is_feasible() {
         // The best never gets worse over the run.
         assert!(r.history.windows(2).all(|w| w[1] <= w[0]), "{}", alg.name());
     }
+}
+
+/// GWO's greedy selection: on Rastrigin (many local minima, so many moves
+/// make a wolf worse) no wolf ever stands worse than it stood before.
+#[test]
+fn gwo_wolves_never_move_to_a_worse_place() {
+    let gwo = Gwo::default();
+    let mut p = TestProblem::new(TestFn::Rastrigin, 5);
+    let mut ev = Evaluator::new(&mut p);
+    let mut rng = rng_from_seed(4);
+    let mut s = gwo.init(&mut ev, 30, &mut rng);
+    let mut moved = 0;
+    for it in 0..30 {
+        let before = s.wolves().to_vec();
+        gwo.step(&mut s, &mut ev, it, 30, &mut rng);
+        for (old, new) in before.iter().zip(s.wolves()) {
+            assert!(!better(old, new), "iteration {it}: {old:?} -> {new:?}");
+            moved += usize::from(old.x != new.x);
+        }
+    }
+    assert!(moved > 100, "the pack hardly moved: {moved}");
 }

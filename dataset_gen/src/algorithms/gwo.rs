@@ -3,13 +3,20 @@
 //!
 //! The three best wolves found so far, α, β and δ (by Deb's rules, so a
 //! feasible leader is never displaced by an infeasible wolf), lead the pack.
-//! Each wolf X moves to the mean of three moves:
+//! In box coordinates z = (x − mid) / half ∈ [−1, 1]^D, each wolf moves to
+//! the mean of three moves:
 //!
-//! A = 2a r1 − a,  C = 2 r2,  D = |C X_L − X|,  X_L' = X_L − A D  for L ∈ {α, β, δ}
-//! X(t+1) = (X_α' + X_β' + X_δ') / 3, clamped to the box,
+//! A = 2a r1 − a,  C = 2 r2,  D = |C z_L − z|,  z_L' = z_L − A D  for L ∈ {α, β, δ}
+//! z(t+1) = (z_α' + z_β' + z_δ') / 3, clamped to the box,
 //!
 //! with a falling linearly from 2 to 0 over the iteration budget and r1, r2
-//! uniform in [0, 1) per component.
+//! uniform in [0, 1) per component. Two departures from the original, both
+//! measured on the dig problem (`dataset_gen quality`, README):
+//! - the box coordinates: C scales a leader about the middle of the box,
+//!   not about the origin of the raw variable (for the dig duration,
+//!   T ∈ [5, 10] s, scaling about 0 throws wolves to the bounds);
+//! - greedy selection: a wolf whose move made it worse (Deb's rules) goes
+//!   back to where it was.
 //!
 //! Good-point set (Hua & Wang): with p the smallest prime ≥ 2D + 3 and
 //! r_j = 2 cos(2π j / p), wolf k (1-based) starts at
@@ -50,10 +57,19 @@ impl Default for Gwo {
 #[derive(Debug, Clone)]
 pub struct GwoState {
     pack: Vec<Vec<f64>>,
+    /// Each wolf's position as evaluated (after greedy selection).
+    at: Vec<Individual>,
     /// α, β, δ: the best three distinct points seen so far.
     leaders: Vec<Individual>,
     lo: Vec<f64>,
     hi: Vec<f64>,
+}
+
+impl GwoState {
+    /// Each wolf where it stands, as evaluated.
+    pub fn wolves(&self) -> &[Individual] {
+        &self.at
+    }
 }
 
 /// Good-point set: `n` points in the unit cube \[0, 1)^d.
@@ -137,12 +153,15 @@ impl Algorithm for Gwo {
                 .collect(),
         };
         let mut leaders = Vec::with_capacity(4);
+        let mut at = Vec::with_capacity(pack.len());
         for w in &pack {
             let ind = ev.eval(w.clone());
             update_leaders(&mut leaders, &ind);
+            at.push(ind);
         }
         GwoState {
             pack,
+            at,
             leaders,
             lo,
             hi,
@@ -166,16 +185,30 @@ impl Algorithm for Gwo {
         let mut evaluated = Vec::with_capacity(s.pack.len());
         for w in s.pack.iter_mut() {
             for j in 0..d {
+                let (mid, half) = (0.5 * (s.lo[j] + s.hi[j]), 0.5 * (s.hi[j] - s.lo[j]));
+                if half <= 0.0 {
+                    continue;
+                }
                 let mut sum = 0.0;
+                let zw = (w[j] - mid) / half;
                 for l in &lead {
+                    let zl = (l[j] - mid) / half;
                     let big_a = 2.0 * a * uniform(rng) - a;
                     let c = 2.0 * uniform(rng);
-                    let dist = (c * l[j] - w[j]).abs();
-                    sum += l[j] - big_a * dist;
+                    let dist = (c * zl - zw).abs();
+                    sum += zl - big_a * dist;
                 }
-                w[j] = (sum / 3.0).clamp(s.lo[j], s.hi[j]);
+                w[j] = (mid + half * sum / 3.0).clamp(s.lo[j], s.hi[j]);
             }
             evaluated.push(ev.eval(w.clone()));
+        }
+        // Greedy selection: a wolf whose move made it worse goes back.
+        for (k, ind) in evaluated.iter().enumerate() {
+            if better(ind, &s.at[k]) {
+                s.at[k] = ind.clone();
+            } else {
+                s.pack[k].clone_from(&s.at[k].x);
+            }
         }
         for ind in &evaluated {
             update_leaders(&mut s.leaders, ind);
