@@ -16,7 +16,9 @@
 //!
 //! [`DigProblem::new`] is a dataset's problem: the query's flat surface at
 //! H, the machine at x = 0. [`DigProblem::on_ground`] is the same dig on a
-//! given terrain and machine position (a trench as dug so far).
+//! given terrain and machine position (a trench as dug so far), and
+//! [`DigProblem::with_guard`] adds a trench planner's design guard as one
+//! more constraint (the problem the planner's digs are held to).
 //!
 //! Objectives: [`DigObjective::Weighted`] is λ1 T_t + λ2 E_e + λ3 V_v
 //! (PSO, GWO); [`DigObjective::Pareto`] is (T \[s\], W_E \[Wh\], −V \[10⁻³ m³\])
@@ -30,6 +32,7 @@ use crate::error::Error;
 use crate::problem::{Individual, Problem, compare_single};
 use crate::rng::OptRng;
 use crate::runner::{Budget, RunResult, Runner, StopReason};
+use infer::repair::{Assessment, DesignGuard, assess};
 use infer::{
     CarveBuffer, Config, DigParams, DigQuery, DigReport, DigTask, Ground, Sample, Terrain,
 };
@@ -88,6 +91,8 @@ pub struct DigProblem {
     lo: Vec<f64>,
     hi: Vec<f64>,
     pub objective: DigObjective,
+    /// The cut below a trench's design profile is a constraint too.
+    guard: Option<DesignGuard>,
     /// Under the Pareto objective, the evaluated point with the best
     /// weighted objective by Deb's rules (f holds that objective): the
     /// member of the archive of every non-dominated point evaluated that a
@@ -159,8 +164,17 @@ impl DigProblem {
             lo,
             hi,
             objective,
+            guard: None,
             best_weighted: None,
         })
+    }
+
+    /// The same dig, its cut below `guard`'s design profile held within the
+    /// guard's depth and area (a violation beyond them counts with the
+    /// model's own).
+    pub fn with_guard(mut self, guard: DesignGuard) -> Self {
+        self.guard = Some(guard);
+        self
     }
 
     /// Y = [a16, a26, a36, T] from the optimiser's variables [b1, b2, b3, T].
@@ -185,23 +199,31 @@ impl DigProblem {
 
     /// Full evaluation of one dig under the exact model.
     pub fn report(&mut self, params: &DigParams) -> Result<DigReport, Error> {
+        self.assess(params).map(|a| a.report)
+    }
+
+    /// The dig's figures, its cut below the design and its feasibility
+    /// and total violation, the guard's included.
+    pub fn assess(&mut self, params: &DigParams) -> Result<Assessment, Error> {
         let ground = Ground {
             terrain: &self.terrain,
             base_x: self.base_x,
         };
-        Ok(infer::evaluate(
+        let guard = self.guard.as_ref();
+        Ok(assess(
             &self.cfg,
             &self.task,
             params,
             ground,
             &mut self.scratch,
+            guard,
         )?)
     }
 
     /// The weighted objective and violation of a point (errors count as infeasible).
     pub fn weighted(&mut self, x: &[f64]) -> (f64, f64) {
-        match self.report(&Self::to_params(x)) {
-            Ok(r) => (r.objective, r.total_violation()),
+        match self.assess(&Self::to_params(x)) {
+            Ok(a) => (a.report.objective, a.violation),
             Err(_) => (f64::INFINITY, EVAL_ERROR_VIOLATION),
         }
     }
@@ -240,16 +262,22 @@ impl Problem for DigProblem {
 
     fn evaluate(&mut self, x: &[f64], f: &mut [f64]) -> f64 {
         let params = Self::to_params(x);
-        match (self.report(&params), self.objective) {
-            (Ok(r), DigObjective::Weighted) => {
-                f[0] = r.objective;
-                r.total_violation()
+        match (self.assess(&params), self.objective) {
+            (Ok(a), DigObjective::Weighted) => {
+                f[0] = a.report.objective;
+                a.violation
             }
-            (Ok(r), DigObjective::Pareto) => {
+            (
+                Ok(Assessment {
+                    report: r,
+                    violation: v,
+                    ..
+                }),
+                DigObjective::Pareto,
+            ) => {
                 f[0] = r.duration;
                 f[1] = r.energy_wh();
                 f[2] = -r.volume * 1e3;
-                let v = r.total_violation();
                 if self
                     .best_weighted
                     .as_ref()
@@ -289,11 +317,14 @@ pub struct DigSolution {
     pub wall_time_s: f64,
     /// Size of the final front (NSGA-II), 1 otherwise.
     pub front_size: usize,
+    /// The cut stays within the problem's design guard (true without one).
+    pub within_guard: bool,
 }
 
 impl DigSolution {
+    /// Every constraint holds, the design guard's included.
     pub fn feasible(&self) -> bool {
-        self.report.is_some_and(|r| r.feasible)
+        self.within_guard && self.report.is_some_and(|r| r.feasible)
     }
 
     /// The weighted objective (+∞ when the dig could not be evaluated).
@@ -375,10 +406,15 @@ pub fn solve_problem(
         DigObjective::Pareto => weighted_choice(problem, &run),
     };
     let params = DigProblem::to_params(&chosen.x);
-    let report = problem.report(&params).ok();
+    let assessed = problem.assess(&params).ok();
+    let within_guard = match (&problem.guard, &assessed) {
+        (Some(g), Some(a)) => g.violation(&a.over_dig) == 0.0,
+        _ => true,
+    };
     Ok(DigSolution {
         y: params.to_array(),
-        report,
+        report: assessed.map(|a| a.report),
+        within_guard,
         iterations: run.iterations,
         evaluations: run.evaluations,
         stop: run.stop,

@@ -2,7 +2,8 @@
 
 use dataset_gen::algorithms::AnyAlgorithm;
 use dataset_gen::dig_problem::{
-    DigBounds, DigObjective, DigProblem, EVAL_ERROR_VIOLATION, solve, weighted_choice,
+    DigBounds, DigObjective, DigProblem, EVAL_ERROR_VIOLATION, solve, solve_problem,
+    weighted_choice,
 };
 use dataset_gen::problem::Problem;
 use dataset_gen::rng::rng_from_seed;
@@ -103,6 +104,43 @@ fn nsga2_answer_is_the_best_weighted_point_evaluated() {
     let chosen = weighted_choice(&mut p, &run);
     assert_eq!(chosen.x, best.1.x);
     assert!(best.0 < p.weighted(&worst.x).0);
+}
+
+/// With a design guard, a dig that cuts below a shallow design is
+/// infeasible, and an optimiser's answer is feasible only within the guard.
+#[test]
+fn a_guarded_dig_stays_within_the_design() {
+    let (cfg, q) = example();
+    let shallow = infer::TrenchTask::new_deg(0.6, 0.06, 60.0, 60.0);
+    let design = infer::DesignProfile::new(&cfg, &shallow);
+    let guard = infer::repair::DesignGuard {
+        profile: design,
+        max_depth: 0.015,
+        max_area: 0.01 * design.area(),
+    };
+    let x = DigProblem::from_params(&infer::DigParams::from_array(infer::query::REFERENCE_Y));
+    let bounds = DigBounds::default();
+    let mut plain = DigProblem::new(&cfg, &q, &bounds, DigObjective::Weighted).unwrap();
+    let mut guarded = plain.clone().with_guard(guard);
+    let (f_plain, v_plain) = plain.weighted(&x);
+    let (f_guarded, v_guarded) = guarded.weighted(&x);
+    assert_eq!(v_plain, 0.0, "the reference dig is feasible");
+    assert!(v_guarded > 0.0, "it cuts far below a 6 cm design");
+    assert_eq!(
+        f_plain, f_guarded,
+        "the guard is a constraint, not an objective"
+    );
+    let alg = AnyAlgorithm::by_name("pso", 30).unwrap();
+    let s = solve_problem(
+        &mut guarded,
+        &alg,
+        Budget::iterations(30),
+        &mut rng_from_seed(3),
+    )
+    .unwrap();
+    let a = guarded.assess(&infer::DigParams::from_array(s.y)).unwrap();
+    assert_eq!(s.feasible(), a.feasible);
+    assert_eq!(s.within_guard, guard.violation(&a.over_dig) == 0.0);
 }
 
 #[test]

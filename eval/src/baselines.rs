@@ -3,9 +3,12 @@
 //! A baseline solves the single-dig problem of spec §6 for the dig the
 //! network planned: the same start and end joint angles, on the same
 //! surface (the trench as it was before that dig) with the machine at the
-//! same place. It does not know the trench's design profile, so it may
-//! cut below it where the planner's guard would not; the comparison is of
-//! the dig problem the network was trained to answer.
+//! same place. As the source's optimisers, it does not know the trench's
+//! design profile, so it may cut below it where the planner's guard would
+//! not; the comparison is of the dig problem the network was trained to
+//! answer. A guarded baseline solves the problem the planner's digs are
+//! held to instead: the same dig with the planner's design guard as one
+//! more constraint.
 
 use crate::planning::PlanStep;
 use dataset_gen::algorithms::{AnyAlgorithm, Gwo, Nsga2, Pso};
@@ -23,21 +26,26 @@ pub struct Baseline {
     pub algorithm: AnyAlgorithm,
     /// Iterations (PSO, GWO) or generations (NSGA-II).
     pub iterations: usize,
+    /// The dig's cut below the design is held to the planner's guard.
+    #[serde(default)]
+    pub guarded: bool,
 }
 
 impl Baseline {
     /// The source's settings: PSO and GWO 50 × 100, NSGA-II 100 × 100
-    /// (then the best weighted member of the final front).
+    /// (then the best weighted member of its archive).
     pub fn source() -> Vec<Baseline> {
         vec![
             Baseline::pso(),
             Baseline {
                 algorithm: AnyAlgorithm::Gwo(Gwo::default()),
                 iterations: 100,
+                guarded: false,
             },
             Baseline {
                 algorithm: AnyAlgorithm::Nsga2(Nsga2::default()),
                 iterations: 100,
+                guarded: false,
             },
         ]
     }
@@ -47,6 +55,15 @@ impl Baseline {
         Baseline {
             algorithm: AnyAlgorithm::Pso(Pso::default()),
             iterations: 100,
+            guarded: false,
+        }
+    }
+
+    /// The same optimiser held to the planner's design guard.
+    pub fn guarded(self) -> Baseline {
+        Baseline {
+            guarded: true,
+            ..self
         }
     }
 
@@ -61,11 +78,18 @@ impl Baseline {
         Ok(Baseline {
             algorithm,
             iterations,
+            guarded: false,
         })
     }
 
+    /// The method's key in reports: pso, gwo, nsga2, or pso-guarded etc.
     pub fn name(&self) -> &'static str {
-        self.algorithm.name()
+        match (self.algorithm.name(), self.guarded) {
+            ("pso", true) => "pso-guarded",
+            ("gwo", true) => "gwo-guarded",
+            ("nsga2", true) => "nsga2-guarded",
+            (name, _) => name,
+        }
     }
 
     /// "PSO 50 × 100".
@@ -85,6 +109,9 @@ pub fn method_label(name: &str) -> &str {
         "pso" => "PSO",
         "gwo" => "GWO",
         "nsga2" => "NSGA-II",
+        "pso-guarded" => "PSO (guarded)",
+        "gwo-guarded" => "GWO (guarded)",
+        "nsga2-guarded" => "NSGA-II (guarded)",
         other => other,
     }
 }
@@ -174,6 +201,13 @@ pub fn solve_again(
         &DigBounds::default(),
         objective_for(&baseline.algorithm),
     )
+    .map(|p| {
+        if baseline.guarded {
+            p.with_guard(*guard)
+        } else {
+            p
+        }
+    })
     .and_then(|mut problem| {
         solve_problem(
             &mut problem,

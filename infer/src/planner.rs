@@ -18,9 +18,9 @@
 //! ([`PlannerSettings::rollouts`]) the best few are compared by playing the
 //! rest of the task out on a spare surface. If no candidate is feasible,
 //! the least infeasible are repaired (time rescaling, then the bounded
-//! refinement; a refined dig is then polished, its objective lowered
-//! while it keeps its design material); if repair fails for the first dig
-//! the error names the constraint, and after it the plan ends there with the reason
+//! refinement). A fitted or refined dig is then polished: its objective
+//! lowered while it keeps its design material. If repair fails for the
+//! first dig the error names the constraint, and after it the plan ends there with the reason
 //! ([`PlanState::stopped`]) and the rest counted as under-dug. The task
 //! ends when the material left would not fill the bucket to V_min. When a
 //! start is nearer to the machine than its type's query range allows, the
@@ -123,8 +123,9 @@ pub struct PlannerSettings {
     /// The refinement that reshapes the best candidate to remove more
     /// design material (budget 0: digs are used as predicted when feasible).
     pub fit: RepairSettings,
-    /// The refinement that then lowers a repaired dig's objective (the
-    /// repair seeks design material, not a good dig); budget 0: none.
+    /// The refinement that then lowers the objective of a fitted or
+    /// repaired dig (both seek design material, not a good dig); budget 0:
+    /// none.
     pub polish: RepairSettings,
     /// How much less design material the polished dig may remove, per
     /// V_max of material.
@@ -162,7 +163,7 @@ impl Default for PlannerSettings {
             end_zeta: deg(160.0),
             start_after_move: 0.95,
             weight_over_dig: 3.0,
-            weight_objective: 0.3,
+            weight_objective: 0.6,
             repairs: 8,
             repair_reach: 0.08,
             fit: RepairSettings {
@@ -170,10 +171,10 @@ impl Default for PlannerSettings {
                 ..RepairSettings::default()
             },
             polish: RepairSettings {
-                budget: 120,
+                budget: 300,
                 ..RepairSettings::default()
             },
-            polish_keep: 0.02,
+            polish_keep: 0.03,
         }
     }
 }
@@ -677,10 +678,14 @@ impl Planner {
                 }
             }
         }
-        // A repaired dig sought design material only: lower its objective
-        // while it keeps (nearly) that material.
+        // A fitted or repaired dig was reshaped for design material: lower
+        // its objective while it keeps (nearly) that material.
         let chosen = match chosen {
-            Some(mut t) if full && s.polish.budget > 0 && t.outcome == Outcome::Refined => {
+            Some(mut t)
+                if full
+                    && s.polish.budget > 0
+                    && matches!(t.outcome, Outcome::Fitted | Outcome::Refined) =>
+            {
                 let (params, used) = self.polish(target, scene, carve, &t.candidate, &t.params)?;
                 evaluations += used;
                 t.params = params;

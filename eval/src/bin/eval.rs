@@ -41,7 +41,8 @@ struct EvalArgs {
     /// Which tasks are also planned with PSO in the loop.
     #[arg(long, value_enum)]
     whole_task: Option<Coverage>,
-    /// Optimisers of the dig-by-dig comparison (pso, gwo, nsga2), at the source's settings.
+    /// Optimisers of the dig-by-dig comparison at the source's settings: pso, gwo, nsga2,
+    /// or one of them held to the planner's design guard (pso-guarded, ...).
     #[arg(long, value_delimiter = ',')]
     optimisers: Option<Vec<String>>,
     /// Planner settings as JSON (`infer::PlannerSettings`; any field left out keeps its default).
@@ -73,10 +74,12 @@ impl EvalArgs {
                 .map(|n| {
                     Baseline::source()
                         .into_iter()
+                        .flat_map(|b| [b.clone(), b.guarded()])
                         .find(|b| b.name() == n.trim())
                         .ok_or_else(|| {
                             EvalError::BadArgument(format!(
-                                "unknown optimiser `{n}` (expected pso, gwo or nsga2)"
+                                "unknown optimiser `{n}` (expected pso, gwo or nsga2, \
+                                 or one of them followed by -guarded)"
                             ))
                         })
                 })
