@@ -1,8 +1,9 @@
 //! Pareto fronts as data and pictures. NSGA-II's final front on one dig
 //! (T, W_E, V), with the dig a dataset keeps (the best weighted member of
-//! its archive of non-dominated points) and PSO's optimum of the same query beside it, shows where
-//! the trade-off lies and why the two optimisers' samples differ; a ZDT
-//! front drawn over the true one shows how far a run got.
+//! its archive of non-dominated points) and PSO's optimum of the same
+//! query beside it, shows where the trade-off lies and why the two
+//! optimisers' samples differ; a ZDT front drawn over the true one shows
+//! how far a run got.
 
 use crate::algorithms::AnyAlgorithm;
 use crate::dig_problem::{DigBounds, DigObjective, DigProblem, solve, weighted_choice};
@@ -43,8 +44,8 @@ impl FrontPoint {
     }
 }
 
-/// NSGA-II's final front on one query, the dig chosen from its archive, and PSO's
-/// optimum at the same iteration budget and seed.
+/// NSGA-II's final front on one query, the dig chosen from its archive,
+/// and PSO's optimum at the same iteration budget and seed.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DigFront {
     pub query: DigQuery,
