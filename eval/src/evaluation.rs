@@ -7,10 +7,10 @@ use crate::digs::{DigRow, compare_digs};
 use crate::error::EvalError;
 use crate::networks::Networks;
 use crate::planning::{PlanRun, run_plan};
-use crate::progress;
 use crate::summary::{Summary, summarise};
 use crate::tasks::{NamedTask, RandomRanges, task_set};
 use crate::whole::{PlanSummary, WholeTaskRow, plan_with_optimiser};
+use dataset_gen::batch::progress_bar;
 use infer::plan::Plan;
 use infer::{Config, Planner, PlannerSettings, TrenchTask};
 use serde::{Deserialize, Serialize};
@@ -206,7 +206,8 @@ pub fn evaluate(
         .map(|(t, r)| (t.name.as_str(), r))
         .collect();
     let n_digs: usize = selected.iter().map(|(_, r)| r.steps.len()).sum();
-    let bar = progress::bar(n_digs as u64, "digs solved again", show_progress);
+    let bar = progress_bar(n_digs as u64, "digs", show_progress);
+    bar.set_message("solved again");
     let digs = compare_digs(
         &planner,
         &selected,
@@ -221,11 +222,8 @@ pub fn evaluate(
         .filter(|t| settings.whole_task.covers(t))
         .cloned()
         .collect();
-    let bar = progress::bar(
-        in_loop.len() as u64,
-        "tasks with PSO in loop",
-        show_progress,
-    );
+    let bar = progress_bar(in_loop.len() as u64, "tasks", show_progress);
+    bar.set_message("PSO in the loop");
     let optimiser_runs = plan_with_optimiser(
         cfg,
         &planner,

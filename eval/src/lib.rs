@@ -28,7 +28,6 @@ pub mod output;
 pub mod pipeline;
 pub mod planning;
 pub mod plots;
-pub mod progress;
 pub mod summary;
 pub mod tables;
 pub mod tasks;

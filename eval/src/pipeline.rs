@@ -201,7 +201,8 @@ fn train_both(
         progress: false,
     };
     let budget = settings.train_seconds;
-    let bar = crate::progress::bar(budget.ceil() as u64, "training (s)", progress);
+    let bar = dataset_gen::batch::progress_bar(budget.ceil() as u64, "s", progress);
+    bar.set_message("training");
     let done = std::sync::atomic::AtomicBool::new(false);
     let results: Vec<Result<TrainedNetwork, EvalError>> = std::thread::scope(|s| {
         let ticker = s.spawn(|| {

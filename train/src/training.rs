@@ -9,7 +9,7 @@ use crate::error::TrainError;
 use burn::optim::{AdamConfig, GradientsParams};
 use burn::prelude::*;
 use burn::tensor::FloatDType;
-use indicatif::{ProgressBar, ProgressStyle};
+use dataset_gen::batch::progress_bar;
 use infer::DigType;
 use model::network::{DigNet, Normalisation};
 use model::physics::{LossTerms, LossWeights, dig_figures, losses};
@@ -302,7 +302,11 @@ pub fn train(
         }
     };
 
-    let bar = progress_bar(cfg, start_epoch, progress);
+    let kind = cfg.kind().name();
+    let bar = progress_bar(cfg.budget.max_epochs as u64, "epochs", progress);
+    bar.set_message(kind);
+    bar.set_position(start_epoch as u64);
+    bar.reset_eta();
     let started = Instant::now();
     let elapsed = |s: &Instant| start_seconds + s.elapsed().as_secs_f64();
     let mut order: Vec<usize> = (0..split.train.len()).collect();
@@ -356,10 +360,8 @@ pub fn train(
             train: train_terms,
             validation,
         });
-        if let Some(bar) = &bar {
-            bar.set_position(epoch as u64);
-            bar.set_message(format!("val {validation}"));
-        }
+        bar.set_position(epoch as u64);
+        bar.set_message(format!("{kind} val {validation}"));
         if epoch % cfg.runtime.checkpoint_every == 0 {
             checkpoint::save(
                 &paths.checkpoint_dir,
@@ -382,9 +384,7 @@ pub fn train(
         seconds,
         &log,
     )?;
-    if let Some(bar) = bar {
-        bar.finish_with_message(format!("{stop:?}"));
-    }
+    bar.finish_with_message(format!("{kind} {stop:?}"));
     let mut term_met_at = [None; 5];
     for l in &log {
         for (k, met) in l.validation.met(&cfg.targets).iter().enumerate() {
@@ -420,23 +420,6 @@ pub fn evaluate_terms(
     let order: Vec<usize> = (0..samples.len()).collect();
     let (x, y) = data::batch(samples, &order, device);
     TermValues::read(&forward_step(net, x, y, ctx))
-}
-
-fn progress_bar(cfg: &TrainConfig, start: usize, show: bool) -> Option<ProgressBar> {
-    if !show {
-        return None;
-    }
-    let bar = ProgressBar::new(cfg.budget.max_epochs as u64);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{prefix} [{elapsed_precise}] {bar:30} {pos}/{len} epochs ({per_sec}, ETA {eta}) {msg}",
-        )
-        .expect("a valid template"),
-    );
-    bar.set_prefix(cfg.kind().name().to_string());
-    bar.set_position(start as u64);
-    bar.reset_eta();
-    Some(bar)
 }
 
 /// The device-free path of a run's checkpoint directory.
