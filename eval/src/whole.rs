@@ -88,7 +88,9 @@ pub struct WholeTaskRow {
 }
 
 /// Plans every task with `baseline` in the loop, in parallel over tasks;
-/// the predictor of a task is seeded from (seed, task name).
+/// the predictor of a task is seeded from (seed, task name). The planner
+/// validates every answer against its guard, so the optimiser in the loop
+/// is not held to it itself: a guarded baseline is an error here.
 pub fn plan_with_optimiser(
     cfg: &Config,
     planner: &Planner,
@@ -97,6 +99,12 @@ pub fn plan_with_optimiser(
     seed: u64,
     bar: &indicatif::ProgressBar,
 ) -> Result<Vec<(PlanRun, u64)>, dataset_gen::Error> {
+    if baseline.guarded {
+        return Err(dataset_gen::Error::BadSettings(format!(
+            "{} in the loop: the optimiser in the planner's loop is not held to the design guard",
+            baseline.label()
+        )));
+    }
     tasks
         .par_iter()
         .map(|t| {

@@ -134,6 +134,28 @@ fn same_numbers_for_any_thread_count() {
     );
 }
 
+/// The optimiser in the planner's loop is not held to the guard (the
+/// planner holds its answers to it): asking for that is an error.
+#[test]
+fn guarded_optimiser_in_the_loop_is_refused() {
+    let planner = planner();
+    let task = tasks::reference_tasks().remove(0);
+    let guarded = Baseline::new("pso", 6, 2).unwrap().guarded();
+    let err = plan_with_optimiser(
+        &Config::default(),
+        &planner,
+        std::slice::from_ref(&task),
+        &guarded,
+        3,
+        &ProgressBar::hidden(),
+    )
+    .unwrap_err();
+    assert!(
+        err.to_string().contains("not held to the design guard"),
+        "{err}"
+    );
+}
+
 /// A predictor that cannot answer.
 struct Broken;
 
