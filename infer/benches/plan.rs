@@ -12,7 +12,7 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use infer::network::NetworkFile;
-use infer::repair::{DesignGuard, assess};
+use infer::repair::assess;
 use infer::{
     CarveBuffer, Config, DigParams, DigType, Ground, NetworkPair, Planner, PlannerSettings,
     QueryRanges, RepairSettings, Terrain, TrenchTask,
@@ -43,11 +43,10 @@ fn bench(c: &mut Criterion) {
         .unwrap();
     let terrain = Terrain::flat(-0.5, 1.8, cfg.terrain_dx, q.surface).unwrap();
     let task = TrenchTask::reference('A').unwrap();
-    let guard = DesignGuard {
-        profile: infer::DesignProfile::new(&cfg, &task),
-        max_depth: 0.015,
-        max_area: 7.7e-4,
-    };
+    // The guard the default planner holds task A's digs to.
+    let guard = Planner::new(&cfg, &PlannerSettings::default())
+        .unwrap()
+        .guard(&infer::DesignProfile::new(&cfg, &task));
     let mut buf = CarveBuffer::default();
     c.bench_function("dig_forward_and_validate", |b| {
         b.iter(|| {
