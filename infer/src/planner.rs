@@ -130,6 +130,12 @@ pub struct PlannerSettings {
     /// How much less design material the polished dig may remove, per
     /// V_max of material.
     pub polish_keep: f64,
+    /// Most exact-model evaluations one dig may spend, a bound on its
+    /// planning time whatever the surface (each costs 15–30 µs here): the
+    /// search, refinement, repair and polish stop when it is spent, and
+    /// the dig is the best feasible one found by then. `None`: no bound.
+    /// At least 2; not with rollouts (their playouts are not bounded).
+    pub max_evaluations: Option<usize>,
 }
 
 impl Default for PlannerSettings {
@@ -175,6 +181,7 @@ impl Default for PlannerSettings {
                 ..RepairSettings::default()
             },
             polish_keep: 0.03,
+            max_evaluations: None,
         }
     }
 }
@@ -360,6 +367,14 @@ pub struct Planner {
 impl Planner {
     pub fn new(cfg: &Config, settings: &PlannerSettings) -> Result<Self, Error> {
         cfg.validate()?;
+        if settings
+            .max_evaluations
+            .is_some_and(|n| n < 2 || settings.rollouts > 1)
+        {
+            return Err(Error::BadConfig {
+                field: "max_evaluations (at least 2, and not with rollouts)",
+            });
+        }
         Ok(Planner {
             cfg: *cfg,
             settings: *settings,
@@ -507,6 +522,14 @@ impl Planner {
         // The most telling reason any candidate failed.
         let mut why: Option<PlanError> = None;
         let mut evaluations = 0;
+        // What is left of the dig's evaluation bound, keeping one for
+        // carving the chosen dig and `more` for what follows the next step.
+        let cap = s.max_evaluations.unwrap_or(usize::MAX);
+        let spare = |used: usize, more: usize| cap.saturating_sub(used + 1 + more);
+        let capped = |r: &RepairSettings, used: usize, more: usize| RepairSettings {
+            budget: r.budget.min(spare(used, more)),
+            ..*r
+        };
         let starts = anchors
             .into_iter()
             .flatten()
@@ -529,6 +552,9 @@ impl Planner {
                             continue;
                         }
                     };
+                    if spare(evaluations, 0) == 0 {
+                        break 'search;
+                    }
                     let ground = c.ground(&scene.terrain);
                     let predicted = match predictor.predict(&c.query, ground) {
                         Ok(p) => p,
@@ -574,9 +600,11 @@ impl Planner {
         let compare = rollout.is_some() && top[1].is_some();
         for t in top.iter().flatten() {
             let mut t = *t;
-            if full && s.fit.budget > 0 {
+            // The fit's assessment of its result is one more evaluation.
+            let fit = capped(&s.fit, evaluations, 1);
+            if full && fit.budget > 0 {
                 let (score, params, a, used) =
-                    self.fit(target, scene, carve, &t.candidate, &t.params, &s.fit)?;
+                    self.fit(target, scene, carve, &t.candidate, &t.params, &fit)?;
                 evaluations += used;
                 if a.feasible && score > t.score {
                     t.score = score;
@@ -600,6 +628,11 @@ impl Planner {
         // design material).
         if chosen.is_none() {
             for w in worst_kept.iter().flatten() {
+                // Rescaling takes at most 5 evaluations (the first, three
+                // stretches and the result's).
+                if spare(evaluations, 0) < 5 {
+                    break;
+                }
                 let c = &w.candidate;
                 // No repair can fill the bucket from material that is not
                 // there: design material within reach of the chord (the
@@ -646,11 +679,12 @@ impl Planner {
                     Err(RepairError::Infeasible { evaluations: e, .. }) => evaluations += e,
                     Err(RepairError::Model(_)) => {}
                 }
-                if !full {
+                let refine = capped(&s.repair, evaluations, 1);
+                if !full || refine.budget == 0 {
                     continue;
                 }
                 let (score, params, a, used) =
-                    self.fit(target, scene, carve, c, &w.predicted, &s.repair)?;
+                    self.fit(target, scene, carve, c, &w.predicted, &refine)?;
                 evaluations += used;
                 if a.feasible {
                     let mut t = Scored::new(score, *c, w.predicted);
@@ -680,13 +714,16 @@ impl Planner {
         }
         // A fitted or repaired dig was reshaped for design material: lower
         // its objective while it keeps (nearly) that material.
+        // The polish assesses the dig before and after: two evaluations more.
+        let polish = capped(&s.polish, evaluations, 2);
         let chosen = match chosen {
             Some(mut t)
                 if full
-                    && s.polish.budget > 0
+                    && polish.budget > 0
                     && matches!(t.outcome, Outcome::Fitted | Outcome::Refined) =>
             {
-                let (params, used) = self.polish(target, scene, carve, &t.candidate, &t.params)?;
+                let (params, used) =
+                    self.polish(target, scene, carve, &t.candidate, &t.params, &polish)?;
                 evaluations += used;
                 t.params = params;
                 Some(t)
@@ -895,6 +932,7 @@ impl Planner {
         carve: &mut CarveBuffer,
         c: &Candidate,
         params: &DigParams,
+        settings: &RepairSettings,
     ) -> Result<(DigParams, usize), Error> {
         let s = &self.settings;
         let (design, terrain) = (&target.design, &scene.terrain);
@@ -909,7 +947,7 @@ impl Planner {
         )?;
         let keep = self.material(terrain, design, carve, &a0) - s.polish_keep;
         let (best, a, used) =
-            self.refine_on(target, scene, carve, c, params, &s.polish, |a, carve| {
+            self.refine_on(target, scene, carve, c, params, settings, |a, carve| {
                 let lost = keep - self.material(terrain, design, carve, a);
                 a.report.objective + POLISH_PENALTY * lost.max(0.0)
             })?;

@@ -569,3 +569,59 @@ fn plans_replay_and_edits_are_caught() {
     let r = plan.verify(&strict);
     assert!(matches!(r, Err(VerifyError::Infeasible { .. })), "{r:?}");
 }
+
+/// With `max_evaluations`, no dig spends more exact evaluations than the
+/// bound, every dig is still feasible and the plans replay; the bound is
+/// checked when the planner is built.
+#[test]
+fn an_evaluation_bound_holds_for_every_dig() {
+    let (down, back) = (shipped(DigType::Downward), shipped(DigType::Backward));
+    let mut pair = infer::NetworkPair {
+        downward: down.network().unwrap(),
+        backward: back.network().unwrap(),
+    };
+    let cfg = Config::default();
+    let bounded = PlannerSettings {
+        max_evaluations: Some(40),
+        ..PlannerSettings::default()
+    };
+    let planner = Planner::new(&cfg, &bounded).unwrap();
+    let free = Planner::new(&cfg, &PlannerSettings::default()).unwrap();
+    let (mut spent, mut spent_free) = (0, 0);
+    for name in ['A', 'B', 'C', 'D'] {
+        let task = TrenchTask::reference(name).unwrap();
+        let plan = planner.plan(&task, &mut pair).unwrap();
+        assert!(!plan.digs.is_empty(), "task {name}");
+        for d in &plan.digs {
+            assert!(
+                d.dig.evaluations <= 40,
+                "task {name}: {}",
+                d.dig.evaluations
+            );
+            assert!(d.dig.report.feasible);
+            spent += d.dig.evaluations;
+        }
+        plan.verify(&planner).unwrap();
+        let plan = free.plan(&task, &mut pair).unwrap();
+        spent_free += plan.digs.iter().map(|d| d.dig.evaluations).sum::<usize>();
+    }
+    assert!(
+        spent < spent_free,
+        "the bound binds: {spent} vs {spent_free}"
+    );
+    for bad in [
+        PlannerSettings {
+            max_evaluations: Some(1),
+            ..PlannerSettings::default()
+        },
+        PlannerSettings {
+            rollouts: 4,
+            ..bounded
+        },
+    ] {
+        assert!(matches!(
+            Planner::new(&cfg, &bad),
+            Err(Error::BadConfig { .. })
+        ));
+    }
+}
