@@ -9,6 +9,8 @@
 //! - `task_X_quick`: the same with the first good candidate taken and no
 //!   refinement of feasible digs (`accept_score` 0.6, `fit.budget` 0): the
 //!   fast, coarser planner.
+//! - `task_X_bounded`: the default settings with at most 40 exact
+//!   evaluations per dig (`max_evaluations`): a controller's deadline.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use infer::network::NetworkFile;
@@ -76,7 +78,15 @@ fn bench(c: &mut Criterion) {
         },
         ..PlannerSettings::default()
     };
-    for (suffix, settings) in [("", PlannerSettings::default()), ("_quick", quick)] {
+    let bounded = PlannerSettings {
+        max_evaluations: Some(40),
+        ..PlannerSettings::default()
+    };
+    for (suffix, settings) in [
+        ("", PlannerSettings::default()),
+        ("_quick", quick),
+        ("_bounded", bounded),
+    ] {
         let planner = Planner::new(&cfg, &settings).unwrap();
         for name in ['A', 'B', 'C', 'D'] {
             let task = TrenchTask::reference(name).unwrap();
