@@ -221,6 +221,11 @@ pub enum PlanError {
         kind: DigType,
         error: Error,
     },
+    #[error(
+        "dig {dig}: the bound of {bound} exact evaluations per dig (max_evaluations) was spent before a feasible dig was found",
+        dig = dig + 1
+    )]
+    EvaluationBound { dig: usize, bound: usize },
 }
 
 impl PlanError {
@@ -231,7 +236,8 @@ impl PlanError {
             PlanError::Predictor { dig, .. }
             | PlanError::Dig { dig, .. }
             | PlanError::TooLittleMaterial { dig, .. }
-            | PlanError::Pose { dig, .. } => Some(*dig),
+            | PlanError::Pose { dig, .. }
+            | PlanError::EvaluationBound { dig, .. } => Some(*dig),
         }
     }
 
@@ -530,6 +536,8 @@ impl Planner {
             budget: r.budget.min(spare(used, more)),
             ..*r
         };
+        // Whether the bound cut the search or a repair short.
+        let mut bound_hit = false;
         let starts = anchors
             .into_iter()
             .flatten()
@@ -553,6 +561,7 @@ impl Planner {
                         }
                     };
                     if spare(evaluations, 0) == 0 {
+                        bound_hit = true;
                         break 'search;
                     }
                     let ground = c.ground(&scene.terrain);
@@ -631,6 +640,7 @@ impl Planner {
                 // Rescaling takes at most 5 evaluations (the first, three
                 // stretches and the result's).
                 if spare(evaluations, 0) < 5 {
+                    bound_hit = true;
                     break;
                 }
                 let c = &w.candidate;
@@ -680,6 +690,7 @@ impl Planner {
                     Err(RepairError::Model(_)) => {}
                 }
                 let refine = capped(&s.repair, evaluations, 1);
+                bound_hit |= refine.budget < s.repair.budget;
                 if !full || refine.budget == 0 {
                     continue;
                 }
@@ -731,6 +742,15 @@ impl Planner {
             other => other,
         };
         let Some(t) = chosen else {
+            // Spent the bound: that, not what the search saw, is why.
+            let why = if bound_hit {
+                Some(PlanError::EvaluationBound {
+                    dig: index,
+                    bound: cap,
+                })
+            } else {
+                why
+            };
             let error = why.unwrap_or(PlanError::TooLittleMaterial {
                 dig: index,
                 left_cm3: left * 1e6,
