@@ -27,7 +27,8 @@
 //! machine moves back first (recorded on the dig).
 //!
 //! The core API ([`Planner::start`], [`Planner::next_dig`]) uses no heap; the
-//! per-dig step allocates nothing. With `std`, [`Planner::plan`] runs a
+//! per-dig step allocates nothing, and [`PlannerSettings::max_evaluations`]
+//! bounds its work (a controller's worst-case planning time). With `std`, [`Planner::plan`] runs a
 //! whole task into a [`Plan`](crate::plan::Plan).
 
 // Errors carry the violated constraint by value: no heap in `no_std`, so no Box.
