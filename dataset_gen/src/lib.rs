@@ -29,6 +29,7 @@ pub mod quality;
 pub mod rng;
 pub mod runner;
 pub mod sampler;
+pub mod sequence;
 pub mod stats;
 pub mod testfns;
 

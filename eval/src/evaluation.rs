@@ -1,6 +1,7 @@
 //! One evaluation run: plan the task set with the networks, solve every
 //! planned dig again with the optimiser baselines, plan whole tasks with
-//! PSO in the loop, and summarise it all against the goals.
+//! PSO in the loop and by PSO over the whole dig sequence, and summarise it
+//! all against the goals.
 
 use crate::baselines::Baseline;
 use crate::digs::{DigRow, compare_digs};
@@ -9,8 +10,9 @@ use crate::networks::Networks;
 use crate::planning::{PlanRun, run_plan};
 use crate::summary::{Summary, summarise};
 use crate::tasks::{NamedTask, RandomRanges, task_set};
-use crate::whole::{PlanSummary, WholeTaskRow, plan_with_optimiser};
+use crate::whole::{PlanSummary, WholeTaskRow, optimise_sequences, plan_with_optimiser};
 use dataset_gen::batch::progress_bar;
+use dataset_gen::sequence::SequenceSettings;
 use infer::plan::Plan;
 use infer::{Config, Planner, PlannerSettings, TrenchTask};
 use serde::{Deserialize, Serialize};
@@ -53,9 +55,21 @@ pub struct EvalSettings {
     /// Which tasks are also planned with an optimiser in the loop.
     pub whole_task: Coverage,
     pub in_loop: Baseline,
+    /// Which tasks of the whole-task comparison are also planned by PSO
+    /// over the whole dig sequence (the offline reference for the profile;
+    /// seconds per task; the machine does not move, so a task out of its
+    /// reach gets no plan).
+    #[serde(default = "reference_only")]
+    pub sequence: Coverage,
+    #[serde(default)]
+    pub sequence_search: SequenceSettings,
     /// The planner's settings, for the network and the optimiser in the loop alike.
     #[serde(default)]
     pub planner: PlannerSettings,
+}
+
+fn reference_only() -> Coverage {
+    Coverage::Reference
 }
 
 impl Default for EvalSettings {
@@ -73,6 +87,8 @@ impl Default for EvalSettings {
             baselines,
             whole_task: Coverage::All,
             in_loop: Baseline::pso(),
+            sequence: Coverage::Reference,
+            sequence_search: SequenceSettings::default(),
             planner: PlannerSettings::default(),
         }
     }
@@ -81,12 +97,13 @@ impl Default for EvalSettings {
 impl EvalSettings {
     /// The under-a-minute form: the same 24 tasks planned with the network
     /// and every dig solved again by PSO only (no GWO or NSGA-II), plain and
-    /// guarded; the whole-task comparison on tasks A–D only.
+    /// guarded; the whole-task comparison on tasks A–D only; no sequence PSO.
     pub fn quick() -> Self {
         EvalSettings {
             dig_by_dig: Coverage::All,
             baselines: vec![Baseline::pso(), Baseline::pso().guarded()],
             whole_task: Coverage::Reference,
+            sequence: Coverage::Skip,
             ..EvalSettings::default()
         }
     }
@@ -109,6 +126,13 @@ impl EvalSettings {
             Coverage::All => {}
             Coverage::Reference => out.push("whole-task comparison on tasks A–D only".into()),
             Coverage::Skip => out.push("no whole-task comparison".into()),
+        }
+        match self.sequence {
+            Coverage::All | Coverage::Reference => {}
+            Coverage::Skip => out.push("no sequence PSO".into()),
+        }
+        if self.sequence != Coverage::Skip && self.sequence_search != SequenceSettings::default() {
+            out.push("sequence PSO budget differs from the default".into());
         }
         if self.planner != PlannerSettings::default() {
             out.push("planner settings differ from the defaults".into());
@@ -157,10 +181,19 @@ pub struct EvalReport {
     pub whole: Vec<WholeTaskRow>,
     pub summary: Summary,
     pub elapsed_s: f64,
-    /// The plans, per task: with the network, and with the optimiser in
-    /// the loop when planned (written as separate files).
+    /// The plans, per task (written as separate files).
     #[serde(skip)]
-    pub plans: Vec<(String, Plan, Option<Plan>)>,
+    pub plans: Vec<TaskPlans>,
+}
+
+/// A task's plans: with the network, with the optimiser in the loop and
+/// by sequence PSO, each when planned.
+#[derive(Debug, Clone)]
+pub struct TaskPlans {
+    pub name: String,
+    pub network: Plan,
+    pub in_loop: Option<Plan>,
+    pub sequence: Option<Plan>,
 }
 
 /// The 1-minute load average (0 where /proc/loadavg is not readable).
@@ -234,6 +267,21 @@ pub fn evaluate(
     )?;
     bar.finish_and_clear();
 
+    let by_sequence: Vec<NamedTask> = tasks
+        .iter()
+        .filter(|t| settings.sequence.covers(t) && settings.whole_task.covers(t))
+        .cloned()
+        .collect();
+    let s = &settings.sequence_search;
+    let bar = progress_bar(
+        by_sequence.len() as u64 * s.evaluations(),
+        "sequences",
+        show_progress,
+    );
+    bar.set_message("sequence PSO");
+    let sequences = optimise_sequences(&planner, &by_sequence, s, settings.seed, &bar);
+    bar.finish_and_clear();
+
     let mut whole = Vec::new();
     let mut plans = Vec::new();
     let mut reports = Vec::new();
@@ -243,19 +291,29 @@ pub fn evaluate(
             .iter()
             .position(|x| x.name == t.name)
             .map(|i| &optimiser_runs[i]);
+        let sequence = by_sequence
+            .iter()
+            .position(|x| x.name == t.name)
+            .map(|i| &sequences[i]);
         if let Some((o, calls)) = optimiser {
             whole.push(WholeTaskRow {
                 task: t.name.clone(),
                 network: network.clone(),
                 optimiser: PlanSummary::of(o),
                 optimiser_calls: *calls,
+                sequence: sequence.map(|r| {
+                    r.as_ref()
+                        .map(|p| PlanSummary::of_plan(p, None))
+                        .map_err(Clone::clone)
+                }),
             });
         }
-        plans.push((
-            t.name.clone(),
-            run.plan.clone(),
-            optimiser.map(|(o, _)| o.plan.clone()),
-        ));
+        plans.push(TaskPlans {
+            name: t.name.clone(),
+            network: run.plan.clone(),
+            in_loop: optimiser.map(|(o, _)| o.plan.clone()),
+            sequence: sequence.and_then(|r| r.as_ref().ok().cloned()),
+        });
         reports.push(TaskReport {
             name: t.name.clone(),
             description: t.describe(),

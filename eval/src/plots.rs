@@ -187,10 +187,12 @@ pub fn dig_time(path: &Path, report: &EvalReport) -> Result<(), EvalError> {
     root.present().map_err(|x| e(x.to_string()))
 }
 
-/// The plans as `infer` draws them: `<dir>/<task>.svg|json` (network) and
-/// `<dir>/<task>_pso.svg|json` (optimiser in the loop).
+/// The plans as `infer` draws them: `<dir>/<task>.svg|json` (network),
+/// `<dir>/<task>_pso.svg|json` (optimiser in the loop) and
+/// `<dir>/<task>_sequence.svg|json` (sequence PSO).
 pub fn plans(dir: &Path, report: &EvalReport) -> Result<(), EvalError> {
-    for (name, net, opt) in &report.plans {
+    for p in &report.plans {
+        let (name, net, opt) = (&p.name, &p.network, &p.in_loop);
         let stopped = |f: Option<&crate::planning::PlanFailure>| {
             f.map_or(String::new(), |f| format!(", stopped at dig {}", f.dig))
         };
@@ -221,6 +223,13 @@ pub fn plans(dir: &Path, report: &EvalReport) -> Result<(), EvalError> {
                 ),
             )?;
             write_file(&dir.join(format!("{name}_pso.json")), &o.to_json())?;
+        }
+        if let Some(q) = &p.sequence {
+            write_file(
+                &dir.join(format!("{name}_sequence.svg")),
+                &infer::plan::svg(q, &format!("task {name} (sequence PSO)")),
+            )?;
+            write_file(&dir.join(format!("{name}_sequence.json")), &q.to_json())?;
         }
     }
     Ok(())

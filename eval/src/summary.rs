@@ -6,7 +6,8 @@
 use crate::digs::DigRow;
 use crate::evaluation::TaskReport;
 use crate::planning::{PlanFailure, PlanRun};
-use crate::whole::WholeTaskRow;
+use crate::tasks::is_reference;
+use crate::whole::{PlanSummary, WholeTaskRow};
 use dataset_gen::stats::Distribution;
 use infer::Outcome;
 use serde::{Deserialize, Serialize};
@@ -131,6 +132,53 @@ fn baseline_summary(method: &str, digs: &[DigRow]) -> BaselineSummary {
     }
 }
 
+/// Most under- and over-dug area per task of the spec (issue 5), as fractions.
+const PROFILE_GOAL: f64 = 0.03;
+
+/// The profile goal on tasks A–D: the network's plans, with sequence PSO's
+/// (the offline reference) alongside where it ran.
+fn profile_goal(tasks: &[TaskReport], whole: &[WholeTaskRow]) -> Goal {
+    let within = |p: &PlanSummary| p.under_dug <= PROFILE_GOAL && p.over_dug <= PROFILE_GOAL;
+    // Plans of the tasks, `None` where a method found none.
+    let describe = |plans: &[Option<&PlanSummary>]| {
+        let found: Vec<&PlanSummary> = plans.iter().flatten().copied().collect();
+        let worst = |f: fn(&PlanSummary) -> f64| found.iter().map(|p| f(p)).fold(0.0, f64::max);
+        let mut text = format!(
+            "{} of {}",
+            found.iter().filter(|p| within(p)).count(),
+            plans.len()
+        );
+        if !found.is_empty() {
+            text += &format!(
+                " (worst under-dug {:.1} %, over-dug {:.1} %)",
+                worst(|p| p.under_dug) * 100.0,
+                worst(|p| p.over_dug) * 100.0
+            );
+        }
+        if found.len() < plans.len() {
+            text += &format!(", no plan for {}", plans.len() - found.len());
+        }
+        text
+    };
+    let reference: Vec<&TaskReport> = tasks.iter().filter(|t| is_reference(&t.name)).collect();
+    let network: Vec<Option<&PlanSummary>> = reference.iter().map(|t| Some(&t.network)).collect();
+    let sequence: Vec<Option<&PlanSummary>> = whole
+        .iter()
+        .filter(|w| reference.iter().any(|t| t.name == w.task))
+        .filter_map(|w| w.sequence.as_ref().map(|r| r.as_ref().ok()))
+        .collect();
+    let mut measured = format!("network {}", describe(&network));
+    if !sequence.is_empty() {
+        measured += &format!("; sequence PSO (offline) {}", describe(&sequence));
+    }
+    Goal {
+        what: "tasks A–D with under- and over-dug area each within 3 % of the design area".into(),
+        target: format!("{0} of {0}", network.len()),
+        measured,
+        met: !network.is_empty() && network.iter().flatten().all(|p| within(p)),
+    }
+}
+
 /// Dig-by-dig, whole-task and per-task figures together.
 pub fn summarise(
     tasks: &[TaskReport],
@@ -203,6 +251,7 @@ pub fn summarise(
         measured: format!("{complete} of {}", runs.len()),
         met: complete == runs.len(),
     });
+    goals.push(profile_goal(tasks, whole));
     Summary {
         tasks: tasks.len(),
         tasks_complete: complete,

@@ -340,10 +340,14 @@ pub fn whole_csv(report: &EvalReport) -> String {
         "predictor_calls",
     ];
     let rows = report.whole.iter().flat_map(|w| {
+        let sequence = w.sequence.as_ref().and_then(|r| r.as_ref().ok());
         [
-            ("network", &w.network, None),
-            ("pso_in_loop", &w.optimiser, Some(w.optimiser_calls)),
+            ("network", Some(&w.network), None),
+            ("pso_in_loop", Some(&w.optimiser), Some(w.optimiser_calls)),
+            ("pso_sequence", sequence, None),
         ]
+        .into_iter()
+        .filter_map(|(who, s, calls)| s.map(|s| (who, s, calls)))
         .map(|(who, s, calls)| {
             vec![
                 w.task.clone(),
@@ -609,6 +613,38 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
                 seconds(o.planning_seconds)
             );
         }
+        if report.whole.iter().any(|w| w.sequence.is_some()) {
+            let _ = writeln!(
+                out,
+                "\n## Whole tasks: sequence PSO (offline reference)\n\nPSO over every dig of the task at once ({} restarts × {} × {}): each dig's type, start, chord, end lift, bucket attitudes, bends and T chosen together to minimise under- plus over-dug area, every dig feasible and within the design guard, the machine at its first position. What the dig family reaches on the profile with the planner's expected number of digs; seconds, not milliseconds.\n\n| task | digs | total T (s) | total W_E (Wh) | mean objective | under-dug | over-dug | deepest over-dig (mm) | planning time |\n|---|---|---|---|---|---|---|---|---|",
+                report.settings.sequence_search.restarts,
+                report.settings.sequence_search.population,
+                report.settings.sequence_search.iterations
+            );
+            for w in &report.whole {
+                match &w.sequence {
+                    None => {}
+                    Some(Ok(q)) => {
+                        let _ = writeln!(
+                            out,
+                            "| {} | {} | {:.2} | {:.4} | {:.3} | {} | {} | {:.1} | {} |",
+                            w.task,
+                            q.digs,
+                            q.total_time_s,
+                            q.total_energy_wh,
+                            q.mean_objective,
+                            pct(q.under_dug),
+                            pct(q.over_dug),
+                            q.max_over_depth_mm,
+                            seconds(q.planning_seconds)
+                        );
+                    }
+                    Some(Err(e)) => {
+                        let _ = writeln!(out, "| {} | no plan: {e} | | | | | | | |", w.task);
+                    }
+                }
+            }
+        }
         let stops: Vec<String> = report
             .whole
             .iter()
@@ -629,7 +665,7 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
     }
     let _ = writeln!(
         out,
-        "\n## Files\n\n`report.json` (everything), `digs.csv` (every dig, every method), `tasks.csv`, `table4.csv`, `whole.csv`, `objective_gap.svg` (per-dig objective of the network relative to each optimiser), `dig_time.svg` (planning time per dig, log scale), `plans/<task>.svg|json` (the network's plans) and `plans/<task>_pso.svg|json` (PSO in the loop)."
+        "\n## Files\n\n`report.json` (everything), `digs.csv` (every dig, every method), `tasks.csv`, `table4.csv`, `whole.csv`, `objective_gap.svg` (per-dig objective of the network relative to each optimiser), `dig_time.svg` (planning time per dig, log scale), `plans/<task>.svg|json` (the network's plans), `plans/<task>_pso.svg|json` (PSO in the loop) and `plans/<task>_sequence.svg|json` (sequence PSO)."
     );
     out
 }

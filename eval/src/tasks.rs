@@ -34,10 +34,15 @@ impl NamedTask {
         )
     }
 
-    /// One of the spec's four tasks.
     pub fn is_reference(&self) -> bool {
-        self.name.len() == 1
+        is_reference(&self.name)
     }
+}
+
+/// Whether a task name is one of the spec's four tasks (named by their
+/// letter; random tasks have longer names).
+pub fn is_reference(name: &str) -> bool {
+    name.len() == 1
 }
 
 /// Where random tasks are drawn from (metres, degrees).

@@ -9,6 +9,8 @@ use crate::planning::{PlanFailure, PlanRun, run_plan};
 use crate::tasks::NamedTask;
 use dataset_gen::predictor::OptimiserPredictor;
 use dataset_gen::rng::derive_seed;
+use dataset_gen::sequence::{SequenceSettings, optimise_task};
+use infer::plan::Plan;
 use infer::{Config, Outcome, Planner};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -47,14 +49,19 @@ pub struct PlanSummary {
 
 impl PlanSummary {
     pub fn of(run: &PlanRun) -> Self {
-        let digs: Vec<_> = run.steps.iter().map(|s| &s.dig).collect();
-        let (volume, energy, time) = run.plan.totals();
+        Self::of_plan(&run.plan, run.failure.clone())
+    }
+
+    /// A plan's summary; `failure`: why it ended before the task was done.
+    pub fn of_plan(plan: &Plan, failure: Option<PlanFailure>) -> Self {
+        let digs: Vec<_> = plan.digs.iter().map(|r| &r.dig).collect();
+        let (volume, energy, time) = plan.totals();
         let count = |o: Outcome| digs.iter().filter(|d| d.outcome == o).count();
-        let m = &run.plan.metrics;
+        let m = &plan.metrics;
         PlanSummary {
             digs: digs.len(),
-            complete: run.is_complete(),
-            failure: run.failure.clone(),
+            complete: failure.is_none(),
+            failure,
             total_time_s: time,
             total_energy_wh: energy / 3600.0,
             total_volume_cm3: volume * 1e6,
@@ -66,7 +73,7 @@ impl PlanSummary {
             under_dug: m.under_dug,
             over_dug: m.over_dug,
             max_over_depth_mm: m.max_over_depth * 1e3,
-            planning_seconds: run.plan.planning_seconds,
+            planning_seconds: plan.planning_seconds,
             predicted: count(Outcome::Predicted),
             rescaled: count(Outcome::Rescaled),
             refined: count(Outcome::Refined),
@@ -85,6 +92,30 @@ pub struct WholeTaskRow {
     /// Optimisations the optimiser predictor ran (the planner may ask more
     /// than once per dig when a placement fails).
     pub optimiser_calls: u64,
+    /// PSO over the whole dig sequence at once (offline reference for the
+    /// profile), when run: its plan, or why it found none.
+    pub sequence: Option<Result<PlanSummary, String>>,
+}
+
+/// Each task's digs chosen as one sequence by PSO
+/// ([`dataset_gen::sequence`]), one task after the other (each runs its
+/// restarts in parallel); the search of a task is seeded from (seed, task
+/// name). A task it finds no feasible sequence for (one out of reach of
+/// the machine's first position, say) gives the reason instead.
+pub fn optimise_sequences(
+    planner: &Planner,
+    tasks: &[NamedTask],
+    settings: &SequenceSettings,
+    seed: u64,
+    bar: &indicatif::ProgressBar,
+) -> Vec<Result<Plan, String>> {
+    tasks
+        .iter()
+        .map(|t| {
+            let s = derive_seed(seed ^ 0x5E0_0E4CE, name_key(&t.name));
+            optimise_task(planner, &t.task, settings, s, Some(bar)).map_err(|e| e.to_string())
+        })
+        .collect()
 }
 
 /// Plans every task with `baseline` in the loop, in parallel over tasks;

@@ -1,6 +1,7 @@
 //! The evaluation on small budgets: consistent rows, the same numbers for
 //! any thread count, and planning failures reported as rows.
 
+use dataset_gen::sequence::SequenceSettings;
 use eval::baselines::Baseline;
 use eval::digs::{DigRow, compare_digs};
 use eval::evaluation::{Coverage, EvalSettings, evaluate};
@@ -224,10 +225,22 @@ fn small_evaluation_writes_every_report_file() {
         random_tasks: 1,
         dig_by_dig: Coverage::Reference,
         baselines: vec![Baseline::new("pso", 6, 2).unwrap()],
-        whole_task: Coverage::Skip,
+        whole_task: Coverage::Reference,
+        in_loop: Baseline::new("pso", 6, 2).unwrap(),
+        // Far too small a search to find every task a sequence: the
+        // report says why for those.
+        sequence_search: SequenceSettings {
+            population: 6,
+            iterations: 4,
+            restarts: 1,
+            polish: 20,
+            ..SequenceSettings::default()
+        },
         ..EvalSettings::default()
     };
     let report = evaluate(&Config::default(), &networks(), &settings, false).unwrap();
+    assert_eq!(report.whole.len(), 4);
+    assert!(report.whole.iter().all(|w| w.sequence.is_some()));
     assert_eq!(report.tasks.len(), 5);
     assert_eq!(report.tasks[4].name, "R01");
     assert!(!report.tasks[4].dig_by_dig);
@@ -281,6 +294,23 @@ fn small_evaluation_writes_every_report_file() {
     for (name, f) in &report.summary.failures {
         assert!(md.contains(&format!("- {name}: {}", f.message)));
     }
+    assert!(md.contains("## Whole tasks: sequence PSO"));
+    for w in &report.whole {
+        match w.sequence.as_ref().unwrap() {
+            Ok(_) => assert!(
+                dir.join(format!("plans/{}_sequence.json", w.task))
+                    .is_file()
+            ),
+            Err(e) => assert!(md.contains(&format!("| {} | no plan: {e}", w.task))),
+        }
+    }
+    assert!(
+        report
+            .summary
+            .goals
+            .iter()
+            .any(|g| g.what.contains("within 3 %") && g.measured.contains("sequence PSO"))
+    );
     let back: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
     assert_eq!(back["digs"].as_array().unwrap().len(), report.digs.len());

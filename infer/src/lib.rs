@@ -23,6 +23,8 @@
 //! its control loop. All quantities are SI (m, kg, s, rad, N, W, J, m³).
 #![cfg_attr(not(feature = "std"), no_std)]
 
+#[cfg(feature = "cli")]
+pub mod cli;
 pub mod config;
 pub mod dig;
 pub mod dynamics;

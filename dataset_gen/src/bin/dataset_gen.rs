@@ -114,6 +114,34 @@ enum Command {
         #[arg(long, default_value = "front")]
         out: PathBuf,
     },
+    /// PSO over a whole trench's digs at once (offline; seconds per task):
+    /// the best profile the dig family reaches with N digs, as a plan that
+    /// `plan --verify` replays. Writes OUT.json and OUT.svg.
+    OptimiseTask {
+        #[command(flatten)]
+        task: infer::cli::TaskArgs,
+        /// Number of digs (default: the planner's expected count).
+        #[arg(long)]
+        digs: Option<usize>,
+        /// PSO population (default 100).
+        #[arg(long)]
+        population: Option<usize>,
+        /// PSO iterations per run (default 750).
+        #[arg(long)]
+        iterations: Option<usize>,
+        /// Independent PSO runs, the best kept (default 8).
+        #[arg(long)]
+        restarts: Option<usize>,
+        /// Evaluations of the compass search polishing the best (default 20,000).
+        #[arg(long)]
+        polish: Option<usize>,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        #[arg(long, default_value = "optimised_plan")]
+        out: PathBuf,
+        #[arg(long)]
+        no_progress: bool,
+    },
     /// Each optimiser at the source's settings vs the best with 10× iterations.
     Quality {
         #[arg(long, default_value_t = 100)]
@@ -331,6 +359,56 @@ fn main_inner() -> Result<(), Error> {
             print(&serde_json::json!({
                 "json": json, "svg": svg, "front_size": f.points.len(),
                 "chosen": f.chosen, "pso": f.pso,
+            }))
+        }
+        Command::OptimiseTask {
+            task,
+            digs,
+            population,
+            iterations,
+            restarts,
+            polish,
+            seed,
+            out,
+            no_progress,
+        } => {
+            let (task, title) = task.read().map_err(Error::BadArgument)?;
+            let cfg = infer::Config::default();
+            let planner = infer::Planner::new(&cfg, &infer::PlannerSettings::default())?;
+            let d = dataset_gen::sequence::SequenceSettings::default();
+            let settings = dataset_gen::sequence::SequenceSettings {
+                digs,
+                population: population.unwrap_or(d.population),
+                iterations: iterations.unwrap_or(d.iterations),
+                restarts: restarts.unwrap_or(d.restarts),
+                polish: polish.unwrap_or(d.polish),
+                ..d
+            };
+            let bar = batch::progress_bar(settings.evaluations(), "sequences", !no_progress);
+            let plan =
+                dataset_gen::sequence::optimise_task(&planner, &task, &settings, seed, Some(&bar))?;
+            bar.finish_and_clear();
+            let (json, svg) = (out.with_extension("json"), out.with_extension("svg"));
+            for (path, text) in [
+                (&json, plan.to_json()),
+                (
+                    &svg,
+                    infer::plan::svg(&plan, &format!("{title} (sequence PSO)")),
+                ),
+            ] {
+                std::fs::write(path, text).map_err(|source| Error::Io {
+                    path: path.clone(),
+                    source,
+                })?;
+            }
+            let m = &plan.metrics;
+            print(&serde_json::json!({
+                "json": json, "svg": svg, "digs": plan.digs.len(),
+                "under_dug": m.under_dug, "over_dug": m.over_dug,
+                "max_over_depth_mm": m.max_over_depth * 1e3,
+                "dig_objectives": plan.digs.iter().map(|d| d.dig.report.objective).collect::<Vec<_>>(),
+                "dig_volumes_cm3": plan.digs.iter().map(|d| d.dig.report.volume * 1e6).collect::<Vec<_>>(),
+                "planning_seconds": plan.planning_seconds,
             }))
         }
         Command::Quality {

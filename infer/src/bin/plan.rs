@@ -5,12 +5,10 @@
 mod common;
 
 use clap::Parser;
+use infer::cli::TaskArgs;
 use infer::network::NetworkFile;
 use infer::plan::{Plan, svg};
-use infer::{
-    Config, DigPredictor, NetworkPair, Planner, PlannerSettings, RefinePredictor, TrenchTask,
-};
-use serde::Deserialize;
+use infer::{Config, DigPredictor, NetworkPair, Planner, PlannerSettings, RefinePredictor};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -20,27 +18,8 @@ use std::process::ExitCode;
     allow_negative_numbers = true
 )]
 struct Args {
-    /// One of the spec's tasks A, B, C or D.
-    #[arg(long, conflicts_with_all = ["task_file", "length"])]
-    task: Option<char>,
-    /// A task file (TOML or JSON): length, depth (m), slope_far_deg, slope_near_deg, [far_edge] (m).
-    #[arg(long)]
-    task_file: Option<PathBuf>,
-    /// Top length L (m).
-    #[arg(long, short = 'L', requires_all = ["depth", "slope_far", "slope_near"])]
-    length: Option<f64>,
-    /// Depth D (m).
-    #[arg(long, short = 'D')]
-    depth: Option<f64>,
-    /// Slope β1 of the far wall, where digging starts (degrees).
-    #[arg(long)]
-    slope_far: Option<f64>,
-    /// Slope β2 of the near wall (degrees).
-    #[arg(long)]
-    slope_near: Option<f64>,
-    /// x of the far top edge, the initial digging position (m).
-    #[arg(long, default_value_t = TrenchTask::DEFAULT_FAR_EDGE)]
-    far_edge: f64,
+    #[command(flatten)]
+    task: TaskArgs,
     /// Directory holding network_downward.json and network_backward.json.
     #[arg(long, default_value = "artifacts")]
     networks: PathBuf,
@@ -62,17 +41,6 @@ struct Args {
     /// 0 if it does, 1 if it does not, 2 for unreadable input.
     #[arg(long, conflicts_with_all = ["task", "task_file", "length", "refine"])]
     verify: Option<PathBuf>,
-}
-
-/// A task file, angles in degrees.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct TaskFile {
-    length: f64,
-    depth: f64,
-    slope_far_deg: f64,
-    slope_near_deg: f64,
-    far_edge: Option<f64>,
 }
 
 fn main() -> ExitCode {
@@ -125,35 +93,6 @@ fn verify(args: &Args, path: &Path) -> ExitCode {
     }
 }
 
-fn read_task(args: &Args) -> Result<(TrenchTask, String), String> {
-    if let Some(name) = args.task {
-        let t = TrenchTask::reference(name)
-            .ok_or_else(|| format!("unknown task `{name}` (expected A, B, C or D)"))?;
-        return Ok((t, format!("task {}", name.to_ascii_uppercase())));
-    }
-    if let Some(path) = &args.task_file {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let f: TaskFile = if path.extension().is_some_and(|e| e == "json") {
-            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?
-        } else {
-            toml::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?
-        };
-        let mut t = TrenchTask::new_deg(f.length, f.depth, f.slope_far_deg, f.slope_near_deg);
-        t.far_edge = f.far_edge.unwrap_or(args.far_edge);
-        return Ok((t, path.display().to_string()));
-    }
-    match (args.length, args.depth, args.slope_far, args.slope_near) {
-        (Some(l), Some(d), Some(b1), Some(b2)) => {
-            let mut t = TrenchTask::new_deg(l, d, b1, b2);
-            t.far_edge = args.far_edge;
-            Ok((t, format!("L {l} m, D {d} m, β1 {b1}°, β2 {b2}°")))
-        }
-        _ => Err(
-            "give --task A|B|C|D, --task-file FILE, or -L, -D, --slope-far and --slope-near".into(),
-        ),
-    }
-}
-
 fn load_networks(dir: &Path) -> Result<(NetworkFile, NetworkFile), String> {
     let load = |kind: &str| -> Result<NetworkFile, String> {
         let path = dir.join(format!("network_{kind}.json"));
@@ -171,7 +110,7 @@ fn load_networks(dir: &Path) -> Result<(NetworkFile, NetworkFile), String> {
 fn run(args: Args) -> Result<(), String> {
     let cfg: Config = common::json_or_default(args.config.as_deref())?;
     cfg.validate().map_err(|e| e.to_string())?;
-    let (task, title) = read_task(&args)?;
+    let (task, title) = args.task.read()?;
     let settings: PlannerSettings = common::json_or_default(args.settings.as_deref())?;
     let planner = Planner::new(&cfg, &settings).map_err(|e| e.to_string())?;
     planner.digs_for(&task).map_err(|e| e.to_string())?;

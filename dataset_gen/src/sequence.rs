@@ -1,0 +1,371 @@
+//! Whole-task optimisation: PSO over every dig of a trench at once.
+//!
+//! The trench planner chooses one dig at a time, each on the surface the
+//! last one left; a plan whose digs fit the design together needs the
+//! sequence chosen as a whole (a top layer taken first, a floor layer
+//! dragged from the foot of a face later). This module searches that: the
+//! variables of dig k are its type, start x on the surface the digs before
+//! it left, chord, end lift, start and end bucket attitude ζ, the three
+//! bends and T; the objective is the under- plus over-dug fraction of the
+//! final surface; every dig must be feasible under the exact model and
+//! within the planner's design guard (Deb's rules, as for single digs). It
+//! costs seconds per task, not the planner's milliseconds: it is the
+//! offline reference for what the dig family can reach on a task's
+//! profile, and a source of whole-plan data. The result is an
+//! [`infer::plan::Plan`], so `plan --verify` replays it.
+
+use crate::algorithms::AnyAlgorithm;
+use crate::dig_problem::{DigBounds, DigProblem};
+use crate::error::Error;
+use crate::problem::{Individual, Problem, compare_single};
+use crate::rng::{derive_seed, rng_from_seed};
+use crate::runner::{Budget, Runner};
+use infer::kinematics::{Elbow, inverse};
+use infer::math::deg;
+use infer::plan::{DigRecord, Plan};
+use infer::repair::{Assessment, DesignGuard, assess};
+use infer::{
+    Config, DesignProfile, DigQuery, DigTask, DigType, Ground, Outcome, PlannedDig, Planner, Pose,
+    Terrain, TrenchTask,
+};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// Variables per dig: type, start x, chord, end lift, start ζ, end ζ, b1–b3, T.
+const PER_DIG: usize = 10;
+/// Violation given to a dig whose poses are out of reach or that the model
+/// cannot evaluate (the single-dig problem's value).
+const UNREACHABLE: f64 = crate::dig_problem::EVAL_ERROR_VIOLATION;
+
+/// Budget and size of a whole-task optimisation.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SequenceSettings {
+    /// Number of digs; `None`: the planner's expected count
+    /// ⌈V_design / (fill · V_max)⌉ (4, 3, 3 and 5 for tasks A–D, the source's).
+    pub digs: Option<usize>,
+    pub population: usize,
+    pub iterations: usize,
+    /// Independent PSO runs (in parallel); the best is kept.
+    pub restarts: usize,
+    /// Evaluations of the compass search that then polishes the best
+    /// sequence one variable at a time (0: none).
+    pub polish: usize,
+    /// Weight of the digs' mean objective next to the profile error (0:
+    /// the profile alone decides).
+    pub weight_objective: f64,
+}
+
+impl Default for SequenceSettings {
+    fn default() -> Self {
+        SequenceSettings {
+            digs: None,
+            population: 100,
+            iterations: 750,
+            restarts: 8,
+            polish: 20_000,
+            weight_objective: 0.0,
+        }
+    }
+}
+
+impl SequenceSettings {
+    /// Sequences evaluated per task (for progress bars).
+    pub fn evaluations(&self) -> u64 {
+        (self.restarts * self.population * (self.iterations + 1) + self.polish) as u64
+    }
+}
+
+/// The sequence problem of one task, with the machine at base_x = 0.
+struct SequenceProblem<'a> {
+    cfg: Config,
+    design: DesignProfile,
+    guard: DesignGuard,
+    start: &'a Terrain,
+    digs: usize,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    weight_objective: f64,
+    terrain: Terrain,
+    carve: infer::terrain::CarveBuffer,
+    bar: Option<&'a indicatif::ProgressBar>,
+}
+
+/// One dig decoded from its variables.
+struct Decoded {
+    kind: DigType,
+    start: Pose,
+    end: Pose,
+    params: infer::DigParams,
+}
+
+impl SequenceProblem<'_> {
+    fn decode(&self, v: &[f64], terrain: &Terrain) -> Option<Decoded> {
+        let kind = if v[0] < 0.5 {
+            DigType::Downward
+        } else {
+            DigType::Backward
+        };
+        let (sx, ex) = (v[1], v[1] - v[2]);
+        let start = Pose {
+            x: sx,
+            y: terrain.height_at(sx)?,
+            zeta: v[4],
+        };
+        let end = Pose {
+            x: ex,
+            y: terrain.height_at(ex)? + v[3],
+            zeta: v[5],
+        };
+        Some(Decoded {
+            kind,
+            start,
+            end,
+            params: DigProblem::to_params(&v[6..10]),
+        })
+    }
+
+    /// Plays the digs of `x` from the start surface; `on_dig` sees each
+    /// evaluated dig and the surface after it. Returns (profile error +
+    /// weighted objective, total violation).
+    fn play(
+        &mut self,
+        x: &[f64],
+        mut on_dig: impl FnMut(&Decoded, &DigTask, &Assessment, &Terrain),
+    ) -> (f64, f64) {
+        self.terrain.clone_from(self.start);
+        let (mut violation, mut objective) = (0.0, 0.0);
+        for v in x.chunks_exact(PER_DIG) {
+            let Some(dig) = self.decode(v, &self.terrain) else {
+                violation += UNREACHABLE;
+                continue;
+            };
+            let m = &self.cfg.machine;
+            let (Ok(qs), Ok(qe)) = (
+                inverse(m, &dig.start, Elbow::Auto),
+                inverse(m, &dig.end, Elbow::Auto),
+            ) else {
+                violation += UNREACHABLE;
+                continue;
+            };
+            let task = DigTask {
+                start: qs,
+                end: qe,
+                kind: dig.kind,
+            };
+            let ground = Ground {
+                terrain: &self.terrain,
+                base_x: 0.0,
+            };
+            match assess(
+                &self.cfg,
+                &task,
+                &dig.params,
+                ground,
+                &mut self.carve,
+                Some(&self.guard),
+            ) {
+                Ok(a) => {
+                    violation += a.violation;
+                    objective += a.report.objective;
+                    self.terrain.commit(&self.carve);
+                    on_dig(&dig, &task, &a, &self.terrain);
+                }
+                Err(_) => violation += UNREACHABLE,
+            }
+        }
+        let m = self.design.compare(&self.terrain);
+        let f = m.under_dug + m.over_dug + self.weight_objective * objective / self.digs as f64;
+        (f, violation)
+    }
+}
+
+impl Problem for SequenceProblem<'_> {
+    fn dim(&self) -> usize {
+        self.digs * PER_DIG
+    }
+    fn bounds(&self) -> (&[f64], &[f64]) {
+        (&self.lo, &self.hi)
+    }
+    fn evaluate(&mut self, x: &[f64], f: &mut [f64]) -> f64 {
+        if let Some(bar) = self.bar {
+            bar.inc(1);
+        }
+        let (value, violation) = self.play(x, |_, _, _, _| {});
+        f[0] = value;
+        violation
+    }
+    fn name(&self) -> String {
+        format!("sequence of {} digs", self.digs)
+    }
+}
+
+/// Compass search from `start`: each variable in turn moves by ± its step
+/// (5 % of its range at first), a move kept when it is better by Deb's
+/// rules; after a pass without a gain every step halves. At most `budget`
+/// evaluations.
+fn compass(p: &mut SequenceProblem<'_>, start: Individual, budget: usize) -> Individual {
+    let mut best = start;
+    let mut step: Vec<f64> =
+        p.lo.iter()
+            .zip(&p.hi)
+            .map(|(l, h)| 0.05 * (h - l))
+            .collect();
+    let mut f = [0.0];
+    let mut spent = 0;
+    while spent < budget {
+        let mut gained = false;
+        for i in 0..best.x.len() {
+            for sign in [1.0, -1.0] {
+                if spent >= budget {
+                    return best;
+                }
+                let mut x = best.x.clone();
+                x[i] = (x[i] + sign * step[i]).clamp(p.lo[i], p.hi[i]);
+                let violation = p.evaluate(&x, &mut f);
+                spent += 1;
+                if compare_single(violation, f[0], best.violation, best.f[0]).is_lt() {
+                    best = Individual {
+                        x,
+                        f: f.to_vec(),
+                        violation,
+                    };
+                    gained = true;
+                    break;
+                }
+            }
+        }
+        if !gained {
+            step.iter_mut().for_each(|s| *s *= 0.5);
+        }
+    }
+    best
+}
+
+/// The best sequence of digs PSO finds for `task` (see the module doc),
+/// as a plan that [`Plan::verify`] accepts. The machine stays at base_x = 0,
+/// so the task must lie within reach; an error if no run found a sequence
+/// whose every dig is feasible. Deterministic in `seed`, whatever the
+/// thread count.
+pub fn optimise_task(
+    planner: &Planner,
+    task: &TrenchTask,
+    settings: &SequenceSettings,
+    seed: u64,
+    bar: Option<&indicatif::ProgressBar>,
+) -> Result<Plan, Error> {
+    let clock = std::time::Instant::now();
+    let expected = planner
+        .digs_for(task)
+        .map_err(|e| Error::BadArgument(e.to_string()))?;
+    let digs = settings.digs.unwrap_or(expected);
+    if digs == 0 || digs > infer::planner::MAX_DIGS || settings.restarts == 0 {
+        return Err(Error::BadSettings(format!(
+            "a whole-task optimisation needs 1 to {} digs and at least one restart",
+            infer::planner::MAX_DIGS
+        )));
+    }
+    let cfg = *planner.config();
+    let design = DesignProfile::new(&cfg, task);
+    let start = planner.initial_terrain(&design)?;
+    let b = DigBounds::default();
+    let (mut lo, mut hi) = (Vec::new(), Vec::new());
+    for _ in 0..digs {
+        lo.extend([
+            0.0,
+            design.near_edge - 0.02,
+            0.05,
+            -0.05,
+            deg(-120.0),
+            deg(120.0),
+        ]);
+        hi.extend([
+            1.0,
+            design.far_edge + 0.03,
+            0.55,
+            0.08,
+            deg(-40.0),
+            deg(190.0),
+        ]);
+        lo.extend(b.bend_max.map(|m| -m));
+        hi.extend(b.bend_max);
+        lo.push(b.duration[0]);
+        hi.push(b.duration[1]);
+    }
+    let problem = |bar| SequenceProblem {
+        cfg,
+        design,
+        guard: planner.guard(&design),
+        start: &start,
+        digs,
+        lo: lo.clone(),
+        hi: hi.clone(),
+        weight_objective: settings.weight_objective,
+        terrain: start.clone(),
+        carve: Default::default(),
+        bar,
+    };
+    let alg = AnyAlgorithm::by_name("pso", settings.population)?;
+    let runs = (0..settings.restarts as u64)
+        .into_par_iter()
+        .map(|r| {
+            let s = derive_seed(seed, r);
+            let runner = Runner::new(Budget::iterations(settings.iterations), s);
+            alg.run(&runner, &mut problem(bar), &mut rng_from_seed(s))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let evaluations: u64 = runs.iter().map(|r| r.evaluations).sum();
+    let best = runs
+        .into_iter()
+        .map(|r| r.best)
+        .reduce(|a, b| {
+            // The earlier run wins ties: the choice does not depend on timing.
+            if compare_single(b.violation, b.f[0], a.violation, a.f[0]).is_lt() {
+                b
+            } else {
+                a
+            }
+        })
+        .expect("at least one restart");
+    let best = compass(&mut problem(bar), best, settings.polish);
+    if !best.feasible() {
+        return Err(Error::BadProblem(format!(
+            "no sequence of {digs} feasible digs within the design guard was found \
+             (least total violation {:.3}); try more iterations or restarts",
+            best.violation
+        )));
+    }
+    let mut records = Vec::with_capacity(digs);
+    let mut p = problem(None);
+    p.play(&best.x, |dig, task, a, terrain| {
+        let planned = PlannedDig {
+            index: records.len(),
+            kind: dig.kind,
+            base_x: 0.0,
+            moved_from: None,
+            start: dig.start,
+            end: dig.end,
+            query: DigQuery {
+                start: task.start,
+                end: task.end,
+                surface: dig.start.y,
+                kind: dig.kind,
+            },
+            predicted: dig.params,
+            params: dig.params,
+            outcome: Outcome::Predicted,
+            evaluations: evaluations as usize,
+            report: a.report,
+            over_dig: a.over_dig,
+        };
+        records.push(DigRecord::new(planner, planned, &design, terrain));
+    });
+    Ok(Plan {
+        task: *task,
+        design,
+        metrics: design.compare(&p.terrain),
+        stopped: None,
+        digs: records,
+        planning_seconds: clock.elapsed().as_secs_f64(),
+    })
+}
