@@ -259,9 +259,14 @@ pub fn optimise_task(
         .digs_for(task)
         .map_err(|e| Error::BadArgument(e.to_string()))?;
     let digs = settings.digs.unwrap_or(expected);
-    if digs == 0 || digs > infer::planner::MAX_DIGS || settings.restarts == 0 {
+    let w = settings.weight_objective;
+    if digs == 0
+        || digs > infer::planner::MAX_DIGS
+        || settings.restarts == 0
+        || !(w >= 0.0 && w.is_finite())
+    {
         return Err(Error::BadSettings(format!(
-            "a whole-task optimisation needs 1 to {} digs and at least one restart",
+            "a whole-task optimisation needs 1 to {} digs, at least one restart and a finite weight_objective ≥ 0 (got {w})",
             infer::planner::MAX_DIGS
         )));
     }

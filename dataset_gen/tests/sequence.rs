@@ -65,6 +65,12 @@ fn bad_tasks_and_settings_are_errors() {
     };
     let e = optimise_task(&p, &small_task(), &none, 1, None).unwrap_err();
     assert!(matches!(e, Error::BadSettings(_)), "{e}");
+    let nan = SequenceSettings {
+        weight_objective: f64::NAN,
+        ..small_budget()
+    };
+    let e = optimise_task(&p, &small_task(), &nan, 1, None).unwrap_err();
+    assert!(e.to_string().contains("weight_objective"), "{e}");
     // Too small a budget to find a feasible sequence of many digs: an error, not a plan.
     let tiny = SequenceSettings {
         digs: Some(6),

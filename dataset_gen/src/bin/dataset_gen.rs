@@ -135,6 +135,9 @@ enum Command {
         /// Evaluations of the compass search polishing the best (default 20,000).
         #[arg(long)]
         polish: Option<usize>,
+        /// Weight of the digs' mean objective next to the profile error (default 0).
+        #[arg(long)]
+        weight_objective: Option<f64>,
         #[arg(long, default_value_t = 1)]
         seed: u64,
         #[arg(long, default_value = "optimised_plan")]
@@ -368,6 +371,7 @@ fn main_inner() -> Result<(), Error> {
             iterations,
             restarts,
             polish,
+            weight_objective,
             seed,
             out,
             no_progress,
@@ -382,6 +386,7 @@ fn main_inner() -> Result<(), Error> {
                 iterations: iterations.unwrap_or(d.iterations),
                 restarts: restarts.unwrap_or(d.restarts),
                 polish: polish.unwrap_or(d.polish),
+                weight_objective: weight_objective.unwrap_or(d.weight_objective),
                 ..d
             };
             let bar = batch::progress_bar(settings.evaluations(), "sequences", !no_progress);
