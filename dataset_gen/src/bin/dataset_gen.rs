@@ -387,7 +387,6 @@ fn main_inner() -> Result<(), Error> {
                 restarts: restarts.unwrap_or(d.restarts),
                 polish: polish.unwrap_or(d.polish),
                 weight_objective: weight_objective.unwrap_or(d.weight_objective),
-                ..d
             };
             let bar = batch::progress_bar(settings.evaluations(), "sequences", !no_progress);
             let plan =
