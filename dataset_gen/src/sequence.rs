@@ -203,8 +203,8 @@ impl Problem for SequenceProblem<'_> {
 /// Compass search from `start`: each variable in turn moves by ± its step
 /// (5 % of its range at first), a move kept when it is better by Deb's
 /// rules; after a pass without a gain every step halves. At most `budget`
-/// evaluations.
-fn compass(p: &mut SequenceProblem<'_>, start: Individual, budget: usize) -> Individual {
+/// evaluations; returns the best point and the evaluations spent.
+fn compass(p: &mut SequenceProblem<'_>, start: Individual, budget: usize) -> (Individual, usize) {
     let mut best = start;
     let mut step: Vec<f64> =
         p.lo.iter()
@@ -218,7 +218,7 @@ fn compass(p: &mut SequenceProblem<'_>, start: Individual, budget: usize) -> Ind
         for i in 0..best.x.len() {
             for sign in [1.0, -1.0] {
                 if spent >= budget {
-                    return best;
+                    return (best, spent);
                 }
                 let mut x = best.x.clone();
                 x[i] = (x[i] + sign * step[i]).clamp(p.lo[i], p.hi[i]);
@@ -239,7 +239,7 @@ fn compass(p: &mut SequenceProblem<'_>, start: Individual, budget: usize) -> Ind
             step.iter_mut().for_each(|s| *s *= 0.5);
         }
     }
-    best
+    (best, spent)
 }
 
 /// The best sequence of digs PSO finds for `task` (see the module doc),
@@ -273,6 +273,10 @@ pub fn optimise_task(
     let cfg = *planner.config();
     let design = DesignProfile::new(&cfg, task);
     let start = planner.initial_terrain(&design)?;
+    // Per dig: the start from 2 cm before the near edge to 3 cm past the
+    // far edge; chords of 5–55 cm; the end 5 cm below to 8 cm above the
+    // surface; ζ −120° to −40° at the start (teeth into the material) and
+    // 120° to 190° at the end (curled); bends and T as for single digs.
     let b = DigBounds::default();
     let (mut lo, mut hi) = (Vec::new(), Vec::new());
     for _ in 0..digs {
@@ -332,7 +336,9 @@ pub fn optimise_task(
             }
         })
         .expect("at least one restart");
-    let best = compass(&mut problem(bar), best, settings.polish);
+    let (best, polished) = compass(&mut problem(bar), best, settings.polish);
+    // Every sequence evaluated evaluates each of its digs once.
+    let evaluations = evaluations as usize + polished;
     if !best.feasible() {
         return Err(Error::BadProblem(format!(
             "no sequence of {digs} feasible digs within the design guard was found \
@@ -359,7 +365,7 @@ pub fn optimise_task(
             predicted: dig.params,
             params: dig.params,
             outcome: Outcome::Predicted,
-            evaluations: evaluations as usize,
+            evaluations,
             report: a.report,
             over_dig: a.over_dig,
         };

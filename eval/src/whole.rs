@@ -94,6 +94,7 @@ pub struct WholeTaskRow {
     pub optimiser_calls: u64,
     /// PSO over the whole dig sequence at once (offline reference for the
     /// profile), when run: its plan, or why it found none.
+    #[serde(default)]
     pub sequence: Option<Result<PlanSummary, String>>,
 }
 
