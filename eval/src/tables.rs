@@ -616,10 +616,11 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
         if report.whole.iter().any(|w| w.sequence.is_some()) {
             let _ = writeln!(
                 out,
-                "\n## Whole tasks: sequence PSO (offline reference)\n\nPSO over every dig of the task at once ({} restarts × {} × {}): each dig's type, start, chord, end lift, bucket attitudes, bends and T chosen together to minimise under- plus over-dug area, every dig feasible and within the design guard, the machine at its first position. What the dig family reaches on the profile with the planner's expected number of digs; seconds, not milliseconds.\n\n| task | digs | total T (s) | total W_E (Wh) | mean objective | under-dug | over-dug | deepest over-dig (mm) | planning time |\n|---|---|---|---|---|---|---|---|---|",
+                "\n## Whole tasks: sequence PSO (offline reference)\n\nPSO over every dig of the task at once ({} restarts × {} × {}, then a compass search of {} evaluations): each dig's type, start, chord, end lift, bucket attitudes, bends and T chosen together to minimise under- plus over-dug area, every dig feasible and within the design guard, the machine at its first position. What the dig family reaches on the profile with the planner's expected number of digs; seconds, not milliseconds.\n\n| task | digs | total T (s) | total W_E (Wh) | mean objective | under-dug | over-dug | deepest over-dig (mm) | planning time |\n|---|---|---|---|---|---|---|---|---|",
                 report.settings.sequence_search.restarts,
                 report.settings.sequence_search.population,
-                report.settings.sequence_search.iterations
+                report.settings.sequence_search.iterations,
+                report.settings.sequence_search.polish
             );
             for w in &report.whole {
                 match &w.sequence {
