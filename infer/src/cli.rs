@@ -75,3 +75,47 @@ impl TaskArgs {
         }
     }
 }
+
+/// The JSON and SVG files a command writes for the output stem `stem`:
+/// `STEM.json` and `STEM.svg`. A dot inside the stem is kept (`run.v2`
+/// gives `run.v2.json`), and a stem given with either extension has it
+/// replaced (`plan.json` gives `plan.json` and `plan.svg`).
+pub fn output_files(stem: &std::path::Path) -> (PathBuf, PathBuf) {
+    let known = stem.extension().is_some_and(|e| e == "json" || e == "svg");
+    let base = if known {
+        stem.with_extension("")
+    } else {
+        stem.to_path_buf()
+    };
+    (
+        base.with_added_extension("json"),
+        base.with_added_extension("svg"),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::output_files;
+    use std::path::{Path, PathBuf};
+
+    #[test]
+    fn output_files_keep_dots_in_the_stem() {
+        let pair = |a: &str, b: &str| (PathBuf::from(a), PathBuf::from(b));
+        assert_eq!(
+            output_files(Path::new("plan")),
+            pair("plan.json", "plan.svg")
+        );
+        assert_eq!(
+            output_files(Path::new("runs/w0.2_A")),
+            pair("runs/w0.2_A.json", "runs/w0.2_A.svg")
+        );
+        assert_eq!(
+            output_files(Path::new("a/plan.json")),
+            pair("a/plan.json", "a/plan.svg")
+        );
+        assert_eq!(
+            output_files(Path::new("plan.svg")),
+            pair("plan.json", "plan.svg")
+        );
+    }
+}

@@ -351,7 +351,7 @@ fn main_inner() -> Result<(), Error> {
                 }
             };
             let f = front::dig_front(&cfg, &query, population, generations, seed)?;
-            let (json, svg) = (out.with_extension("json"), out.with_extension("svg"));
+            let (json, svg) = infer::cli::output_files(&out);
             std::fs::write(&json, serde_json::to_string_pretty(&f)?).map_err(|source| {
                 Error::Io {
                     path: json.clone(),
@@ -392,7 +392,7 @@ fn main_inner() -> Result<(), Error> {
             let plan =
                 dataset_gen::sequence::optimise_task(&planner, &task, &settings, seed, Some(&bar))?;
             bar.finish_and_clear();
-            let (json, svg) = (out.with_extension("json"), out.with_extension("svg"));
+            let (json, svg) = infer::cli::output_files(&out);
             for (path, text) in [
                 (&json, plan.to_json()),
                 (

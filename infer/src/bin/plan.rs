@@ -127,8 +127,7 @@ fn run(args: Args) -> Result<(), String> {
     }
     .map_err(|e| e.to_string())?;
 
-    let json = args.out.with_extension("json");
-    let pic = args.out.with_extension("svg");
+    let (json, pic) = infer::cli::output_files(&args.out);
     std::fs::write(&json, plan.to_json()).map_err(|e| format!("{}: {e}", json.display()))?;
     std::fs::write(&pic, svg(&plan, &title)).map_err(|e| format!("{}: {e}", pic.display()))?;
 
