@@ -613,6 +613,23 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
                 seconds(o.planning_seconds)
             );
         }
+        let stops: Vec<String> = report
+            .whole
+            .iter()
+            .filter_map(|w| {
+                w.optimiser
+                    .failure
+                    .as_ref()
+                    .map(|f| format!("- {}: {}", w.task, f.message))
+            })
+            .collect();
+        if !stops.is_empty() {
+            let _ = writeln!(
+                out,
+                "\nWhere the planner with PSO in the loop stopped:\n\n{}",
+                stops.join("\n")
+            );
+        }
         if report.whole.iter().any(|w| w.sequence.is_some()) {
             let _ = writeln!(
                 out,
@@ -645,23 +662,6 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
                     }
                 }
             }
-        }
-        let stops: Vec<String> = report
-            .whole
-            .iter()
-            .filter_map(|w| {
-                w.optimiser
-                    .failure
-                    .as_ref()
-                    .map(|f| format!("- {}: {}", w.task, f.message))
-            })
-            .collect();
-        if !stops.is_empty() {
-            let _ = writeln!(
-                out,
-                "\nWhere the planner with PSO in the loop stopped:\n\n{}",
-                stops.join("\n")
-            );
         }
     }
     let _ = writeln!(
