@@ -7,11 +7,11 @@
 //!
 //! cargo run --release -p dataset_gen --example stretch_plan -- artifacts/eval/plans/A_sequence.json C
 
-use infer::kinematics::{Elbow, inverse};
 use infer::plan::Plan;
 use infer::repair::assess;
 use infer::{
-    CarveBuffer, Config, DesignProfile, DigTask, Ground, Planner, PlannerSettings, Pose, TrenchTask,
+    CarveBuffer, Config, DesignProfile, DigQuery, Ground, Planner, PlannerSettings, Pose,
+    TrenchTask,
 };
 
 fn main() -> Result<(), String> {
@@ -67,23 +67,22 @@ fn main() -> Result<(), String> {
             y: height(&terrain, ex)? + lift,
             zeta: d.end.zeta,
         };
-        let (Ok(qs), Ok(qe)) = (
-            inverse(&cfg.machine, &start, Elbow::Auto),
-            inverse(&cfg.machine, &end, Elbow::Auto),
-        ) else {
+        let Ok(query) = DigQuery::from_poses(&cfg, &start, &end, start.y, d.kind) else {
             println!("dig {}: out of reach", d.index + 1);
             continue;
-        };
-        let task = DigTask {
-            start: qs,
-            end: qe,
-            kind: d.kind,
         };
         let ground = Ground {
             terrain: &terrain,
             base_x: 0.0,
         };
-        match assess(&cfg, &task, &d.params, ground, &mut carve, Some(&guard)) {
+        match assess(
+            &cfg,
+            &query.task(),
+            &d.params,
+            ground,
+            &mut carve,
+            Some(&guard),
+        ) {
             Ok(a) => {
                 match a.worst(Some(&guard)) {
                     None => println!("dig {}: feasible", d.index + 1),

@@ -20,13 +20,12 @@ use crate::error::Error;
 use crate::problem::{Individual, Problem, compare_single};
 use crate::rng::{derive_seed, rng_from_seed};
 use crate::runner::{Budget, Runner};
-use infer::kinematics::{Elbow, inverse};
 use infer::math::deg;
 use infer::plan::{DigRecord, Plan};
 use infer::repair::{Assessment, DesignGuard, assess};
 use infer::{
-    Config, DesignProfile, DigQuery, DigTask, DigType, Ground, Outcome, PlannedDig, Planner, Pose,
-    Terrain, TrenchTask,
+    Config, DesignProfile, DigQuery, DigType, Ground, Outcome, PlannedDig, Planner, Pose, Terrain,
+    TrenchTask,
 };
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -99,7 +98,33 @@ struct Decoded {
     params: infer::DigParams,
 }
 
-impl SequenceProblem<'_> {
+impl<'a> SequenceProblem<'a> {
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        planner: &Planner,
+        design: &DesignProfile,
+        start: &'a Terrain,
+        digs: usize,
+        lo: &[f64],
+        hi: &[f64],
+        weight_objective: f64,
+        bar: Option<&'a indicatif::ProgressBar>,
+    ) -> Self {
+        SequenceProblem {
+            cfg: *planner.config(),
+            design: *design,
+            guard: planner.guard(design),
+            start,
+            digs,
+            lo: lo.to_vec(),
+            hi: hi.to_vec(),
+            weight_objective,
+            terrain: start.clone(),
+            carve: Default::default(),
+            bar,
+        }
+    }
+
     fn decode(&self, v: &[f64], terrain: &Terrain) -> Option<Decoded> {
         let kind = if v[0] < 0.5 {
             DigType::Downward
@@ -131,7 +156,7 @@ impl SequenceProblem<'_> {
     fn play(
         &mut self,
         x: &[f64],
-        mut on_dig: impl FnMut(&Decoded, &DigTask, &Assessment, &Terrain),
+        mut on_dig: impl FnMut(&Decoded, &DigQuery, &Assessment, &Terrain),
     ) -> (f64, f64) {
         self.terrain.clone_from(self.start);
         let (mut violation, mut objective) = (0.0, 0.0);
@@ -140,18 +165,11 @@ impl SequenceProblem<'_> {
                 violation += UNREACHABLE;
                 continue;
             };
-            let m = &self.cfg.machine;
-            let (Ok(qs), Ok(qe)) = (
-                inverse(m, &dig.start, Elbow::Auto),
-                inverse(m, &dig.end, Elbow::Auto),
-            ) else {
+            let Ok(query) =
+                DigQuery::from_poses(&self.cfg, &dig.start, &dig.end, dig.start.y, dig.kind)
+            else {
                 violation += UNREACHABLE;
                 continue;
-            };
-            let task = DigTask {
-                start: qs,
-                end: qe,
-                kind: dig.kind,
             };
             let ground = Ground {
                 terrain: &self.terrain,
@@ -159,7 +177,7 @@ impl SequenceProblem<'_> {
             };
             match assess(
                 &self.cfg,
-                &task,
+                &query.task(),
                 &dig.params,
                 ground,
                 &mut self.carve,
@@ -169,7 +187,7 @@ impl SequenceProblem<'_> {
                     violation += a.violation;
                     objective += a.report.objective;
                     self.terrain.commit(&self.carve);
-                    on_dig(&dig, &task, &a, &self.terrain);
+                    on_dig(&dig, &query, &a, &self.terrain);
                 }
                 Err(_) => violation += UNREACHABLE,
             }
@@ -273,47 +291,8 @@ pub fn optimise_task(
     let cfg = *planner.config();
     let design = DesignProfile::new(&cfg, task);
     let start = planner.initial_terrain(&design)?;
-    // Per dig: the start from 2 cm before the near edge to 3 cm past the
-    // far edge; chords of 5–55 cm; the end 5 cm below to 8 cm above the
-    // surface; ζ −120° to −40° at the start (teeth into the material) and
-    // 120° to 190° at the end (curled); bends and T as for single digs.
-    let b = DigBounds::default();
-    let (mut lo, mut hi) = (Vec::new(), Vec::new());
-    for _ in 0..digs {
-        lo.extend([
-            0.0,
-            design.near_edge - 0.02,
-            0.05,
-            -0.05,
-            deg(-120.0),
-            deg(120.0),
-        ]);
-        hi.extend([
-            1.0,
-            design.far_edge + 0.03,
-            0.55,
-            0.08,
-            deg(-40.0),
-            deg(190.0),
-        ]);
-        lo.extend(b.bend_max.map(|m| -m));
-        hi.extend(b.bend_max);
-        lo.push(b.duration[0]);
-        hi.push(b.duration[1]);
-    }
-    let problem = |bar| SequenceProblem {
-        cfg,
-        design,
-        guard: planner.guard(&design),
-        start: &start,
-        digs,
-        lo: lo.clone(),
-        hi: hi.clone(),
-        weight_objective: settings.weight_objective,
-        terrain: start.clone(),
-        carve: Default::default(),
-        bar,
-    };
+    let (lo, hi) = bounds(&design, digs);
+    let problem = |bar| SequenceProblem::new(planner, &design, &start, digs, &lo, &hi, w, bar);
     let alg = AnyAlgorithm::by_name("pso", settings.population)?;
     let runs = (0..settings.restarts as u64)
         .into_par_iter()
@@ -346,9 +325,61 @@ pub fn optimise_task(
             best.violation
         )));
     }
-    let mut records = Vec::with_capacity(digs);
-    let mut p = problem(None);
-    p.play(&best.x, |dig, task, a, terrain| {
+    Ok(to_plan(
+        planner,
+        task,
+        &mut problem(None),
+        &best.x,
+        evaluations,
+        clock,
+    ))
+}
+
+/// The variables' box for `digs` digs on `design`: the start from 2 cm
+/// before the near edge to 3 cm past the far edge; chords of 5–55 cm; the
+/// end 5 cm below to 8 cm above the surface; ζ −120° to −40° at the start
+/// (teeth into the material) and 120° to 190° at the end (curled); bends
+/// and T as for single digs.
+fn bounds(design: &DesignProfile, digs: usize) -> (Vec<f64>, Vec<f64>) {
+    let b = DigBounds::default();
+    let (mut lo, mut hi) = (Vec::new(), Vec::new());
+    for _ in 0..digs {
+        lo.extend([
+            0.0,
+            design.near_edge - 0.02,
+            0.05,
+            -0.05,
+            deg(-120.0),
+            deg(120.0),
+        ]);
+        hi.extend([
+            1.0,
+            design.far_edge + 0.03,
+            0.55,
+            0.08,
+            deg(-40.0),
+            deg(190.0),
+        ]);
+        lo.extend(b.bend_max.map(|m| -m));
+        hi.extend(b.bend_max);
+        lo.push(b.duration[0]);
+        hi.push(b.duration[1]);
+    }
+    (lo, hi)
+}
+
+/// The plan the digs of `x` make, replayed on `p` from its start surface.
+fn to_plan(
+    planner: &Planner,
+    task: &TrenchTask,
+    p: &mut SequenceProblem<'_>,
+    x: &[f64],
+    evaluations: usize,
+    clock: std::time::Instant,
+) -> Plan {
+    let design = p.design;
+    let mut records = Vec::with_capacity(p.digs);
+    p.play(x, |dig, query, a, terrain| {
         let planned = PlannedDig {
             index: records.len(),
             kind: dig.kind,
@@ -356,12 +387,7 @@ pub fn optimise_task(
             moved_from: None,
             start: dig.start,
             end: dig.end,
-            query: DigQuery {
-                start: task.start,
-                end: task.end,
-                surface: dig.start.y,
-                kind: dig.kind,
-            },
+            query: *query,
             predicted: dig.params,
             params: dig.params,
             outcome: Outcome::Predicted,
@@ -371,12 +397,119 @@ pub fn optimise_task(
         };
         records.push(DigRecord::new(planner, planned, &design, terrain));
     });
-    Ok(Plan {
+    Plan {
         task: *task,
         design,
         metrics: design.compare(&p.terrain),
         stopped: None,
         digs: records,
         planning_seconds: clock.elapsed().as_secs_f64(),
-    })
+    }
+}
+
+/// The sequence variables of `plan`'s digs carried over to `design`: start
+/// x and chord stretched with the design from edge to edge; type, end
+/// lift, bucket attitudes, bends and T kept. A plan whose digs all start
+/// on the surface the digs before them left (as sequence PSO's do) gives
+/// back its own variables on its own design.
+pub fn carry_over(
+    planner: &Planner,
+    plan: &Plan,
+    design: &DesignProfile,
+) -> Result<Vec<f64>, Error> {
+    let from = &plan.design;
+    let kx = (design.far_edge - design.near_edge) / (from.far_edge - from.near_edge);
+    let mut terrain = planner.initial_terrain(from)?;
+    let mut carve = infer::terrain::CarveBuffer::default();
+    let mut x = Vec::with_capacity(plan.digs.len() * PER_DIG);
+    for r in &plan.digs {
+        let d = &r.dig;
+        let lift = terrain
+            .height_at(d.end.x)
+            .map(|h| d.end.y - h)
+            .ok_or_else(|| Error::BadArgument(format!("dig {}: off the terrain", d.index + 1)))?;
+        let kind = match d.kind {
+            DigType::Downward => 0.25,
+            DigType::Backward => 0.75,
+        };
+        x.extend([
+            kind,
+            design.near_edge + (d.start.x - from.near_edge) * kx,
+            (d.start.x - d.end.x) * kx,
+            lift,
+            d.start.zeta,
+            d.end.zeta,
+        ]);
+        x.extend(DigProblem::from_params(&d.params));
+        // The next dig's lift is measured on the surface this one left.
+        let ground = Ground {
+            terrain: &terrain,
+            base_x: d.base_x,
+        };
+        assess(
+            planner.config(),
+            &d.query.task(),
+            &d.params,
+            ground,
+            &mut carve,
+            None,
+        )?;
+        terrain.commit(&carve);
+    }
+    Ok(x)
+}
+
+/// A plan for `task` from the sequence `init` (e.g. [`carry_over`] of
+/// another task's optimised plan) refitted to this task's design by the
+/// compass search alone, at most `settings.polish` sequence evaluations:
+/// how far a library of optimised plans goes on tasks it does not hold.
+/// An error if the refitted sequence still has an infeasible dig.
+pub fn refit_task(
+    planner: &Planner,
+    task: &TrenchTask,
+    init: &[f64],
+    settings: &SequenceSettings,
+) -> Result<Plan, Error> {
+    let clock = std::time::Instant::now();
+    planner
+        .digs_for(task)
+        .map_err(|e| Error::BadArgument(e.to_string()))?;
+    let digs = init.len() / PER_DIG;
+    let w = settings.weight_objective;
+    if digs == 0
+        || init.len() % PER_DIG != 0
+        || digs > infer::planner::MAX_DIGS
+        || !(w >= 0.0 && w.is_finite())
+    {
+        return Err(Error::BadSettings(format!(
+            "a refit needs 1 to {} digs of {PER_DIG} variables (got {}) and a finite weight_objective ≥ 0",
+            infer::planner::MAX_DIGS,
+            init.len()
+        )));
+    }
+    let cfg = *planner.config();
+    let design = DesignProfile::new(&cfg, task);
+    let start = planner.initial_terrain(&design)?;
+    let (lo, hi) = bounds(&design, digs);
+    let mut p = SequenceProblem::new(planner, &design, &start, digs, &lo, &hi, w, None);
+    let x: Vec<f64> = init
+        .iter()
+        .zip(lo.iter().zip(&hi))
+        .map(|(v, (l, h))| v.clamp(*l, *h))
+        .collect();
+    let mut f = [0.0];
+    let violation = p.evaluate(&x, &mut f);
+    let seed = Individual {
+        x,
+        f: f.to_vec(),
+        violation,
+    };
+    let (best, spent) = compass(&mut p, seed, settings.polish);
+    if !best.feasible() {
+        return Err(Error::BadProblem(format!(
+            "the refitted sequence of {digs} digs still breaks a constraint or the design guard (total violation {:.3})",
+            best.violation
+        )));
+    }
+    Ok(to_plan(planner, task, &mut p, &best.x, spent + 1, clock))
 }
