@@ -23,6 +23,7 @@ pub mod dataset;
 pub mod dig_problem;
 pub mod error;
 pub mod front;
+pub mod library;
 pub mod predictor;
 pub mod problem;
 pub mod quality;

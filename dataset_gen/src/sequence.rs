@@ -477,12 +477,13 @@ pub fn refit_task(
     let digs = init.len() / PER_DIG;
     let w = settings.weight_objective;
     if digs == 0
-        || init.len() % PER_DIG != 0
+        || !init.len().is_multiple_of(PER_DIG)
+        || init.iter().any(|v| !v.is_finite())
         || digs > infer::planner::MAX_DIGS
         || !(w >= 0.0 && w.is_finite())
     {
         return Err(Error::BadSettings(format!(
-            "a refit needs 1 to {} digs of {PER_DIG} variables (got {}) and a finite weight_objective ≥ 0",
+            "a refit needs 1 to {} digs of {PER_DIG} finite variables (got {}) and a finite weight_objective ≥ 0",
             infer::planner::MAX_DIGS,
             init.len()
         )));
@@ -492,6 +493,7 @@ pub fn refit_task(
     let start = planner.initial_terrain(&design)?;
     let (lo, hi) = bounds(&design, digs);
     let mut p = SequenceProblem::new(planner, &design, &start, digs, &lo, &hi, w, None);
+    // A start: a variable carried over outside this design's box starts on its edge.
     let x: Vec<f64> = init
         .iter()
         .zip(lo.iter().zip(&hi))

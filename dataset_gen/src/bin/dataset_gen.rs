@@ -8,8 +8,10 @@ use dataset_gen::algorithms::AnyAlgorithm;
 use dataset_gen::algorithms::nsga2::hypervolume_2d;
 use dataset_gen::batch::{self, GenConfig, RunOptions, Shard};
 use dataset_gen::front;
+use dataset_gen::library;
 use dataset_gen::rng::rng_from_seed;
 use dataset_gen::runner::{Budget, Runner};
+use dataset_gen::sequence::{self, SequenceSettings};
 use dataset_gen::testfns::{TestFn, TestProblem};
 use infer::DigType;
 use std::path::{Path, PathBuf};
@@ -26,6 +28,43 @@ struct Cli {
     threads: Option<usize>,
     #[command(subcommand)]
     command: Command,
+}
+
+/// The budget of a sequence-PSO search (defaults: `SequenceSettings::default()`).
+#[derive(clap::Args, Debug)]
+struct SequenceArgs {
+    /// Number of digs (default: the planner's expected count).
+    #[arg(long)]
+    digs: Option<usize>,
+    /// PSO population (default 100).
+    #[arg(long)]
+    population: Option<usize>,
+    /// PSO iterations per run (default 750).
+    #[arg(long)]
+    iterations: Option<usize>,
+    /// Independent PSO runs, the best kept (default 8).
+    #[arg(long)]
+    restarts: Option<usize>,
+    /// Evaluations of the compass search polishing the best (default 20,000).
+    #[arg(long)]
+    polish: Option<usize>,
+    /// Weight of the digs' mean objective next to the profile error (default 0).
+    #[arg(long)]
+    weight_objective: Option<f64>,
+}
+
+impl SequenceArgs {
+    fn settings(&self) -> SequenceSettings {
+        let d = SequenceSettings::default();
+        SequenceSettings {
+            digs: self.digs,
+            population: self.population.unwrap_or(d.population),
+            iterations: self.iterations.unwrap_or(d.iterations),
+            restarts: self.restarts.unwrap_or(d.restarts),
+            polish: self.polish.unwrap_or(d.polish),
+            weight_objective: self.weight_objective.unwrap_or(d.weight_objective),
+        }
+    }
 }
 
 #[derive(Subcommand, Debug)]
@@ -120,30 +159,46 @@ enum Command {
     OptimiseTask {
         #[command(flatten)]
         task: infer::cli::TaskArgs,
-        /// Number of digs (default: the planner's expected count).
-        #[arg(long)]
-        digs: Option<usize>,
-        /// PSO population (default 100).
-        #[arg(long)]
-        population: Option<usize>,
-        /// PSO iterations per run (default 750).
-        #[arg(long)]
-        iterations: Option<usize>,
-        /// Independent PSO runs, the best kept (default 8).
-        #[arg(long)]
-        restarts: Option<usize>,
-        /// Evaluations of the compass search polishing the best (default 20,000).
-        #[arg(long)]
-        polish: Option<usize>,
-        /// Weight of the digs' mean objective next to the profile error (default 0).
-        #[arg(long)]
-        weight_objective: Option<f64>,
+        #[command(flatten)]
+        sequence: SequenceArgs,
         #[arg(long, default_value_t = 1)]
         seed: u64,
         #[arg(long, default_value = "optimised_plan")]
         out: PathBuf,
         #[arg(long)]
         no_progress: bool,
+    },
+    /// Sequence PSO over seeded random trenches into OUT/task_NNN.json: a
+    /// library of whole-task plans. Re-running resumes (files there are kept).
+    Library {
+        /// Random tasks (L 0.45–0.75 m, D 0.08–0.20 m, slopes 40–70°, far edge 1.00–1.08 m).
+        #[arg(long, default_value_t = 24)]
+        tasks: usize,
+        /// Seed of the tasks and searches (eval's random tasks use 1).
+        #[arg(long, default_value_t = 7)]
+        seed: u64,
+        #[command(flatten)]
+        sequence: SequenceArgs,
+        #[arg(long, default_value = "runs/library")]
+        out: PathBuf,
+        #[arg(long)]
+        no_progress: bool,
+    },
+    /// A task planned from a library: its nearest library plans carried
+    /// over and refitted by a compass search, the best kept (JSON + SVG).
+    RefitTask {
+        #[command(flatten)]
+        task: infer::cli::TaskArgs,
+        #[arg(long, default_value = "runs/library")]
+        library: PathBuf,
+        /// Library plans refitted (the nearest tasks).
+        #[arg(long, default_value_t = 3)]
+        neighbours: usize,
+        /// Sequence evaluations of each refit.
+        #[arg(long, default_value_t = 5000)]
+        budget: usize,
+        #[arg(long, default_value = "refitted_plan")]
+        out: PathBuf,
     },
     /// Each optimiser at the source's settings vs the best with 10× iterations.
     Quality {
@@ -168,6 +223,40 @@ enum Command {
 
 fn default_population(alg: &str) -> usize {
     if alg.starts_with("nsga") { 100 } else { 50 }
+}
+
+fn default_planner() -> Result<infer::Planner, Error> {
+    Ok(infer::Planner::new(
+        &infer::Config::default(),
+        &infer::PlannerSettings::default(),
+    )?)
+}
+
+/// Writes `plan` as OUT.json and OUT.svg and returns its summary.
+fn write_plan(
+    out: &Path,
+    plan: &infer::plan::Plan,
+    title: &str,
+) -> Result<serde_json::Value, Error> {
+    let (json, svg) = infer::cli::output_files(out);
+    for (path, text) in [
+        (&json, plan.to_json()),
+        (&svg, infer::plan::svg(plan, title)),
+    ] {
+        std::fs::write(path, text).map_err(|source| Error::Io {
+            path: path.clone(),
+            source,
+        })?;
+    }
+    let m = &plan.metrics;
+    Ok(serde_json::json!({
+        "json": json, "svg": svg, "digs": plan.digs.len(),
+        "under_dug": m.under_dug, "over_dug": m.over_dug,
+        "max_over_depth_mm": m.max_over_depth * 1e3,
+        "dig_objectives": plan.digs.iter().map(|d| d.dig.report.objective).collect::<Vec<_>>(),
+        "dig_volumes_cm3": plan.digs.iter().map(|d| d.dig.report.volume * 1e6).collect::<Vec<_>>(),
+        "planning_seconds": plan.planning_seconds,
+    }))
 }
 
 fn print(v: &impl serde::Serialize) -> Result<(), Error> {
@@ -366,54 +455,83 @@ fn main_inner() -> Result<(), Error> {
         }
         Command::OptimiseTask {
             task,
-            digs,
-            population,
-            iterations,
-            restarts,
-            polish,
-            weight_objective,
+            sequence,
             seed,
             out,
             no_progress,
         } => {
             let (task, title) = task.read().map_err(Error::BadArgument)?;
-            let cfg = infer::Config::default();
-            let planner = infer::Planner::new(&cfg, &infer::PlannerSettings::default())?;
-            let d = dataset_gen::sequence::SequenceSettings::default();
-            let settings = dataset_gen::sequence::SequenceSettings {
-                digs,
-                population: population.unwrap_or(d.population),
-                iterations: iterations.unwrap_or(d.iterations),
-                restarts: restarts.unwrap_or(d.restarts),
-                polish: polish.unwrap_or(d.polish),
-                weight_objective: weight_objective.unwrap_or(d.weight_objective),
+            let planner = default_planner()?;
+            let settings = sequence.settings();
+            let bar = batch::progress_bar(settings.evaluations(), "sequences", !no_progress);
+            let plan = sequence::optimise_task(&planner, &task, &settings, seed, Some(&bar))?;
+            bar.finish_and_clear();
+            print(&write_plan(
+                &out,
+                &plan,
+                &format!("{title} (sequence PSO)"),
+            )?)
+        }
+        Command::Library {
+            tasks,
+            seed,
+            sequence,
+            out,
+            no_progress,
+        } => {
+            let planner = default_planner()?;
+            let settings = library::LibrarySettings {
+                tasks,
+                seed,
+                sequence: sequence.settings(),
+                ..Default::default()
             };
             let bar = batch::progress_bar(settings.evaluations(), "sequences", !no_progress);
-            let plan =
-                dataset_gen::sequence::optimise_task(&planner, &task, &settings, seed, Some(&bar))?;
+            let report = library::build(&planner, &settings, &out, Some(&bar))?;
             bar.finish_and_clear();
-            let (json, svg) = infer::cli::output_files(&out);
-            for (path, text) in [
-                (&json, plan.to_json()),
-                (
-                    &svg,
-                    infer::plan::svg(&plan, &format!("{title} (sequence PSO)")),
-                ),
-            ] {
-                std::fs::write(path, text).map_err(|source| Error::Io {
-                    path: path.clone(),
-                    source,
-                })?;
-            }
-            let m = &plan.metrics;
-            print(&serde_json::json!({
-                "json": json, "svg": svg, "digs": plan.digs.len(),
-                "under_dug": m.under_dug, "over_dug": m.over_dug,
-                "max_over_depth_mm": m.max_over_depth * 1e3,
-                "dig_objectives": plan.digs.iter().map(|d| d.dig.report.objective).collect::<Vec<_>>(),
-                "dig_volumes_cm3": plan.digs.iter().map(|d| d.dig.report.volume * 1e6).collect::<Vec<_>>(),
-                "planning_seconds": plan.planning_seconds,
-            }))
+            print(&serde_json::json!({ "out": out, "report": report }))
+        }
+        Command::RefitTask {
+            task,
+            library,
+            neighbours,
+            budget,
+            out,
+        } => {
+            let (task, title) = task.read().map_err(Error::BadArgument)?;
+            let planner = default_planner()?;
+            let lib = library::Library::load(&library)?;
+            let settings = SequenceSettings {
+                polish: budget,
+                ..SequenceSettings::default()
+            };
+            let clock = std::time::Instant::now();
+            let (refits, best) =
+                library::refit_from_library(&planner, &lib, &task, neighbours, &settings)?;
+            let seconds = clock.elapsed().as_secs_f64();
+            let tried: Vec<_> = refits
+                .iter()
+                .map(|r| match &r.result {
+                    Ok(p) => serde_json::json!({
+                        "source": r.source, "under_dug": p.metrics.under_dug,
+                        "over_dug": p.metrics.over_dug, "digs": p.digs.len(),
+                    }),
+                    Err(why) => serde_json::json!({ "source": r.source, "infeasible": why }),
+                })
+                .collect();
+            let Some(Ok(mut plan)) = best
+                .and_then(|i| refits.into_iter().nth(i))
+                .map(|r| r.result)
+            else {
+                return Err(Error::BadProblem(format!(
+                    "no refit of the {neighbours} nearest library plans is feasible: {}",
+                    serde_json::to_string(&tried)?
+                )));
+            };
+            plan.planning_seconds = seconds;
+            let mut v = write_plan(&out, &plan, &format!("{title} (refitted from the library)"))?;
+            v["tried"] = serde_json::Value::Array(tried);
+            print(&v)
         }
         Command::Quality {
             queries,

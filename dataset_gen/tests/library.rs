@@ -1,0 +1,126 @@
+//! The plan library: a build resumes without redoing or changing a plan,
+//! refuses other settings and corrupt entries, and a library plan refitted
+//! to its own task is never worse than it was. One-dig trenches and small
+//! budgets, so this runs in seconds.
+
+use dataset_gen::Error;
+use dataset_gen::library::{
+    Library, LibrarySettings, RandomRanges, build, entry_path, random_task, refit_from_library,
+};
+use dataset_gen::sequence::SequenceSettings;
+use infer::{Config, Planner, PlannerSettings};
+
+fn planner() -> Planner {
+    Planner::new(&Config::default(), &PlannerSettings::default()).unwrap()
+}
+
+/// Trenches of about one bucket: one dig each.
+fn small() -> LibrarySettings {
+    LibrarySettings {
+        tasks: 2,
+        seed: 3,
+        ranges: RandomRanges {
+            length: [0.28, 0.32],
+            depth: [0.09, 0.11],
+            slope_deg: [55.0, 65.0],
+            far_edge: [1.04, 1.06],
+        },
+        sequence: SequenceSettings {
+            population: 30,
+            iterations: 80,
+            restarts: 2,
+            polish: 300,
+            ..SequenceSettings::default()
+        },
+    }
+}
+
+fn temp_dir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("library-test-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+/// Library plan `i` without its timing (the one figure that may differ between runs).
+fn plan_at(dir: &std::path::Path, i: usize) -> infer::plan::Plan {
+    let text = std::fs::read_to_string(entry_path(dir, i)).unwrap();
+    let mut plan: infer::plan::Plan = serde_json::from_str(&text).unwrap();
+    plan.planning_seconds = 0.0;
+    plan
+}
+
+#[test]
+fn random_tasks_are_seeded_by_index_and_accepted() {
+    let p = planner();
+    let r = RandomRanges::default();
+    let a = random_task(&p, 7, 3, &r).unwrap();
+    assert_eq!(Some(a), random_task(&p, 7, 3, &r));
+    assert_ne!(Some(a), random_task(&p, 7, 4, &r));
+    assert!(p.digs_for(&a).is_ok());
+}
+
+#[test]
+fn a_build_resumes_without_redoing_or_changing_a_plan() {
+    let p = planner();
+    let dir = temp_dir("resume");
+    let settings = small();
+    let first = build(&p, &settings, &dir, None).unwrap();
+    assert_eq!((first.written, first.kept), (2, 0), "{first:?}");
+    let kept = std::fs::read(entry_path(&dir, 0)).unwrap();
+    let lost = plan_at(&dir, 1);
+    // An interrupted build: the second plan was never written.
+    std::fs::remove_file(entry_path(&dir, 1)).unwrap();
+    let again = build(&p, &settings, &dir, None).unwrap();
+    assert_eq!((again.written, again.kept), (1, 1), "{again:?}");
+    assert!(
+        std::fs::read(entry_path(&dir, 0)).unwrap() == kept,
+        "a kept plan was rewritten"
+    );
+    assert!(plan_at(&dir, 1) == lost, "the plan built again differs");
+
+    // Other settings in the same directory are refused.
+    let other = LibrarySettings { seed: 4, ..small() };
+    let e = build(&p, &other, &dir, None).unwrap_err();
+    assert!(matches!(e, Error::BadSettings(_)), "{e}");
+
+    // A corrupt entry is named, by the resume and by the loader.
+    std::fs::write(entry_path(&dir, 1), "{\"task\": ").unwrap();
+    for e in [
+        build(&p, &settings, &dir, None).unwrap_err(),
+        Library::load(&dir).unwrap_err(),
+    ] {
+        assert!(e.to_string().contains("task_002.json"), "{e}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_library_plan_refitted_to_its_own_task_is_no_worse() {
+    let p = planner();
+    let dir = temp_dir("refit");
+    let settings = LibrarySettings {
+        tasks: 1,
+        ..small()
+    };
+    build(&p, &settings, &dir, None).unwrap();
+    let library = Library::load(&dir).unwrap();
+    let (_, own) = &library.plans[0];
+    let refit = SequenceSettings {
+        polish: 200,
+        ..SequenceSettings::default()
+    };
+    let (refits, best) = refit_from_library(&p, &library, &own.task, 1, &refit).unwrap();
+    let plan = refits[best.expect("its own plan refits")]
+        .result
+        .as_ref()
+        .unwrap();
+    let error = |m: &infer::ProfileMetrics| m.under_dug + m.over_dug;
+    assert!(error(&plan.metrics) <= error(&own.metrics) + 1e-12);
+    assert_eq!(plan.verify(&p).unwrap(), plan.metrics);
+
+    let e = refit_from_library(&p, &library, &own.task, 0, &refit).unwrap_err();
+    assert!(matches!(e, Error::BadSettings(_)), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+    let e = Library::load(&dir).unwrap_err();
+    assert!(e.to_string().contains("library.json"), "{e}");
+}
