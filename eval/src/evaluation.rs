@@ -1,7 +1,7 @@
 //! One evaluation run: plan the task set with the networks, solve every
 //! planned dig again with the optimiser baselines, plan whole tasks with
-//! PSO in the loop and by PSO over the whole dig sequence, and summarise it
-//! all against the goals.
+//! PSO in the loop, by PSO over the whole dig sequence and from the plan
+//! library, and summarise it all against the goals.
 
 use crate::baselines::Baseline;
 use crate::digs::{DigRow, compare_digs};
@@ -10,8 +10,12 @@ use crate::networks::Networks;
 use crate::planning::{PlanRun, run_plan};
 use crate::summary::{Summary, summarise};
 use crate::tasks::{NamedTask, RandomRanges, task_set};
-use crate::whole::{PlanSummary, WholeTaskRow, optimise_sequences, plan_with_optimiser};
+use crate::whole::{
+    LibraryRefit, PlanSummary, WholeTaskRow, optimise_sequences, plan_with_optimiser,
+    refit_from_library,
+};
 use dataset_gen::batch::progress_bar;
+use dataset_gen::library::Library;
 use dataset_gen::sequence::SequenceSettings;
 use infer::plan::Plan;
 use infer::{Config, Planner, PlannerSettings, TrenchTask};
@@ -63,6 +67,10 @@ pub struct EvalSettings {
     pub sequence: Coverage,
     #[serde(default)]
     pub sequence_search: SequenceSettings,
+    /// The plan library every task of the whole-task comparison is also
+    /// planned from (its nearest plans refitted); `None`: not run.
+    #[serde(default)]
+    pub library: Option<LibraryRefit>,
     /// The planner's settings, for the network and the optimiser in the loop alike.
     #[serde(default)]
     pub planner: PlannerSettings,
@@ -89,6 +97,7 @@ impl Default for EvalSettings {
             in_loop: Baseline::pso(),
             sequence: Coverage::Reference,
             sequence_search: SequenceSettings::default(),
+            library: Some(LibraryRefit::default()),
             planner: PlannerSettings::default(),
         }
     }
@@ -133,6 +142,13 @@ impl EvalSettings {
         }
         if self.sequence != Coverage::Skip && self.sequence_search != SequenceSettings::default() {
             out.push("sequence PSO budget differs from the default".into());
+        }
+        match &self.library {
+            None => out.push("no plan library".into()),
+            Some(l) if *l != LibraryRefit::default() => {
+                out.push("plan library refit differs from the default".into())
+            }
+            Some(_) => {}
         }
         if self.planner != PlannerSettings::default() {
             out.push("planner settings differ from the defaults".into());
@@ -186,14 +202,15 @@ pub struct EvalReport {
     pub plans: Vec<TaskPlans>,
 }
 
-/// A task's plans: with the network, with the optimiser in the loop and
-/// by sequence PSO, each when planned.
+/// A task's plans: with the network, with the optimiser in the loop, by
+/// sequence PSO and from the plan library, each when planned.
 #[derive(Debug, Clone)]
 pub struct TaskPlans {
     pub name: String,
     pub network: Plan,
     pub in_loop: Option<Plan>,
     pub sequence: Option<Plan>,
+    pub library: Option<Plan>,
 }
 
 /// The 1-minute load average (0 where /proc/loadavg is not readable).
@@ -282,6 +299,19 @@ pub fn evaluate(
     let sequences = optimise_sequences(&planner, &by_sequence, s, settings.seed, &bar);
     bar.finish_and_clear();
 
+    // The library is read before the clock of its first refit starts.
+    let from_library = match &settings.library {
+        Some(refit) if !in_loop.is_empty() => {
+            let library = Library::load(&refit.dir)?;
+            let bar = progress_bar(in_loop.len() as u64, "tasks", show_progress);
+            bar.set_message("plan library");
+            let plans = refit_from_library(&planner, &library, &in_loop, refit, &bar)?;
+            bar.finish_and_clear();
+            Some(plans)
+        }
+        _ => None,
+    };
+
     let mut whole = Vec::new();
     let mut plans = Vec::new();
     let mut reports = Vec::new();
@@ -295,6 +325,12 @@ pub fn evaluate(
             .iter()
             .position(|x| x.name == t.name)
             .map(|i| &sequences[i]);
+        let library = from_library.as_ref().and_then(|plans| {
+            in_loop
+                .iter()
+                .position(|x| x.name == t.name)
+                .map(|i| &plans[i])
+        });
         if let Some((o, calls)) = optimiser {
             whole.push(WholeTaskRow {
                 task: t.name.clone(),
@@ -306,6 +342,11 @@ pub fn evaluate(
                         .map(|p| PlanSummary::of_plan(p, None))
                         .map_err(Clone::clone)
                 }),
+                library: library.map(|r| {
+                    r.as_ref()
+                        .map(|p| PlanSummary::of_plan(p, None))
+                        .map_err(Clone::clone)
+                }),
             });
         }
         plans.push(TaskPlans {
@@ -313,6 +354,7 @@ pub fn evaluate(
             network: run.plan.clone(),
             in_loop: optimiser.map(|(o, _)| o.plan.clone()),
             sequence: sequence.and_then(|r| r.as_ref().ok().cloned()),
+            library: library.and_then(|r| r.as_ref().ok().cloned()),
         });
         reports.push(TaskReport {
             name: t.name.clone(),

@@ -188,8 +188,9 @@ pub fn dig_time(path: &Path, report: &EvalReport) -> Result<(), EvalError> {
 }
 
 /// The plans as `infer` draws them: `<dir>/<task>.svg|json` (network),
-/// `<dir>/<task>_pso.svg|json` (optimiser in the loop) and
-/// `<dir>/<task>_sequence.svg|json` (sequence PSO).
+/// `<dir>/<task>_pso.svg|json` (optimiser in the loop),
+/// `<dir>/<task>_sequence.svg|json` (sequence PSO) and
+/// `<dir>/<task>_library.svg|json` (from the plan library).
 pub fn plans(dir: &Path, report: &EvalReport) -> Result<(), EvalError> {
     for p in &report.plans {
         let (name, net, opt) = (&p.name, &p.network, &p.in_loop);
@@ -224,12 +225,17 @@ pub fn plans(dir: &Path, report: &EvalReport) -> Result<(), EvalError> {
             )?;
             write_file(&dir.join(format!("{name}_pso.json")), &o.to_json())?;
         }
-        if let Some(q) = &p.sequence {
-            write_file(
-                &dir.join(format!("{name}_sequence.svg")),
-                &infer::plan::svg(q, &format!("task {name} (sequence PSO)")),
-            )?;
-            write_file(&dir.join(format!("{name}_sequence.json")), &q.to_json())?;
+        for (suffix, label, plan) in [
+            ("sequence", "sequence PSO", &p.sequence),
+            ("library", "from the plan library", &p.library),
+        ] {
+            if let Some(q) = plan {
+                write_file(
+                    &dir.join(format!("{name}_{suffix}.svg")),
+                    &infer::plan::svg(q, &format!("task {name} ({label})")),
+                )?;
+                write_file(&dir.join(format!("{name}_{suffix}.json")), &q.to_json())?;
+            }
         }
     }
     Ok(())

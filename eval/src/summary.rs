@@ -136,7 +136,7 @@ fn baseline_summary(method: &str, digs: &[DigRow]) -> BaselineSummary {
 const PROFILE_GOAL: f64 = 0.03;
 
 /// The profile goal on tasks A–D: the network's plans, with sequence PSO's
-/// (the offline reference) alongside where it ran.
+/// (the offline reference) and the plan library's alongside where they ran.
 fn profile_goal(tasks: &[TaskReport], whole: &[WholeTaskRow]) -> Goal {
     let within = |p: &PlanSummary| p.under_dug <= PROFILE_GOAL && p.over_dug <= PROFILE_GOAL;
     // Plans of the tasks, `None` where a method found none.
@@ -167,9 +167,17 @@ fn profile_goal(tasks: &[TaskReport], whole: &[WholeTaskRow]) -> Goal {
         .filter(|w| reference.iter().any(|t| t.name == w.task))
         .filter_map(|w| w.sequence.as_ref().map(|r| r.as_ref().ok()))
         .collect();
+    let library: Vec<Option<&PlanSummary>> = whole
+        .iter()
+        .filter(|w| reference.iter().any(|t| t.name == w.task))
+        .filter_map(|w| w.library.as_ref().map(|r| r.as_ref().ok()))
+        .collect();
     let mut measured = format!("network {}", describe(&network));
     if !sequence.is_empty() {
         measured += &format!("; sequence PSO (offline) {}", describe(&sequence));
+    }
+    if !library.is_empty() {
+        measured += &format!("; from the plan library {}", describe(&library));
     }
     Goal {
         what: "tasks A–D with under- and over-dug area each within 3 % of the design area".into(),

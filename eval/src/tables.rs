@@ -5,6 +5,7 @@
 use crate::baselines::method_label;
 use crate::digs::DigRow;
 use crate::evaluation::EvalReport;
+use crate::whole::{PlanSummary, WholeTaskRow};
 use std::fmt::Write as _;
 
 /// Means of a task's digs for the network and PSO over the digs where
@@ -341,10 +342,12 @@ pub fn whole_csv(report: &EvalReport) -> String {
     ];
     let rows = report.whole.iter().flat_map(|w| {
         let sequence = w.sequence.as_ref().and_then(|r| r.as_ref().ok());
+        let library = w.library.as_ref().and_then(|r| r.as_ref().ok());
         [
             ("network", Some(&w.network), None),
             ("pso_in_loop", Some(&w.optimiser), Some(w.optimiser_calls)),
             ("pso_sequence", sequence, None),
+            ("library", library, None),
         ]
         .into_iter()
         .filter_map(|(who, s, calls)| s.map(|s| (who, s, calls)))
@@ -631,44 +634,71 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
             );
         }
         if report.whole.iter().any(|w| w.sequence.is_some()) {
+            let q = &report.settings.sequence_search;
             let _ = writeln!(
                 out,
-                "\n## Whole tasks: sequence PSO (offline reference)\n\nPSO over every dig of the task at once ({} restarts × {} × {}, then a compass search of {} evaluations): each dig's type, start, chord, end lift, bucket attitudes, bends and T chosen together to minimise under- plus over-dug area, every dig feasible and within the design guard, the machine at its first position. What the dig family reaches on the profile with the planner's expected number of digs; seconds, not milliseconds.\n\n| task | digs | total T (s) | total W_E (Wh) | mean objective | under-dug | over-dug | deepest over-dig (mm) | planning time |\n|---|---|---|---|---|---|---|---|---|",
-                report.settings.sequence_search.restarts,
-                report.settings.sequence_search.population,
-                report.settings.sequence_search.iterations,
-                report.settings.sequence_search.polish
+                "\n## Whole tasks: sequence PSO (offline reference)\n\nPSO over every dig of the task at once ({} restarts × {} × {}, then a compass search of {} evaluations): each dig's type, start, chord, end lift, bucket attitudes, bends and T chosen together to minimise under- plus over-dug area, every dig feasible and within the design guard, the machine at its first position. What the dig family reaches on the profile with the planner's expected number of digs; seconds, not milliseconds.\n",
+                q.restarts, q.population, q.iterations, q.polish
             );
-            for w in &report.whole {
-                match &w.sequence {
-                    None => {}
-                    Some(Ok(q)) => {
-                        let _ = writeln!(
-                            out,
-                            "| {} | {} | {:.2} | {:.4} | {:.3} | {} | {} | {:.1} | {} |",
-                            w.task,
-                            q.digs,
-                            q.total_time_s,
-                            q.total_energy_wh,
-                            q.mean_objective,
-                            pct(q.under_dug),
-                            pct(q.over_dug),
-                            q.max_over_depth_mm,
-                            seconds(q.planning_seconds)
-                        );
-                    }
-                    Some(Err(e)) => {
-                        let _ = writeln!(out, "| {} | no plan: {e} | | | | | | | |", w.task);
-                    }
-                }
-            }
+            whole_plans_table(&mut out, report, |w| w.sequence.as_ref());
+        }
+        if let Some(l) = report
+            .settings
+            .library
+            .as_ref()
+            .filter(|_| report.whole.iter().any(|w| w.library.is_some()))
+        {
+            let _ = writeln!(
+                out,
+                "\n## Whole tasks: from the plan library\n\nThe {} library plans (sequence PSO on random trenches, `{}`) whose tasks are nearest each task, carried over to its design (start x and chord stretched from edge to edge) and refitted by a compass search of {} sequence evaluations each; the best kept. Planning time: the whole refit, wall clock, on both cores.\n",
+                l.neighbours,
+                l.dir.display(),
+                l.budget
+            );
+            whole_plans_table(&mut out, report, |w| w.library.as_ref());
         }
     }
     let _ = writeln!(
         out,
-        "\n## Files\n\n`report.json` (everything), `digs.csv` (every dig, every method), `tasks.csv`, `table4.csv`, `whole.csv`, `objective_gap.svg` (per-dig objective of the network relative to each optimiser), `dig_time.svg` (planning time per dig, log scale), `plans/<task>.svg|json` (the network's plans), `plans/<task>_pso.svg|json` (PSO in the loop) and `plans/<task>_sequence.svg|json` (sequence PSO)."
+        "\n## Files\n\n`report.json` (everything), `digs.csv` (every dig, every method), `tasks.csv`, `table4.csv`, `whole.csv`, `objective_gap.svg` (per-dig objective of the network relative to each optimiser), `dig_time.svg` (planning time per dig, log scale), `plans/<task>.svg|json` (the network's plans), `plans/<task>_pso.svg|json` (PSO in the loop), `plans/<task>_sequence.svg|json` (sequence PSO) and `plans/<task>_library.svg|json` (from the plan library)."
     );
     out
+}
+
+/// One row per task of a whole-task method (`pick`: its plan summary, or
+/// why it found none; `None`: not run on that task).
+fn whole_plans_table(
+    out: &mut String,
+    report: &EvalReport,
+    pick: impl Fn(&WholeTaskRow) -> Option<&Result<PlanSummary, String>>,
+) {
+    let _ = writeln!(
+        out,
+        "| task | digs | total T (s) | total W_E (Wh) | mean objective | under-dug | over-dug | deepest over-dig (mm) | planning time |\n|---|---|---|---|---|---|---|---|---|"
+    );
+    for w in &report.whole {
+        match pick(w) {
+            None => {}
+            Some(Ok(q)) => {
+                let _ = writeln!(
+                    out,
+                    "| {} | {} | {:.2} | {:.4} | {:.3} | {} | {} | {:.1} | {} |",
+                    w.task,
+                    q.digs,
+                    q.total_time_s,
+                    q.total_energy_wh,
+                    q.mean_objective,
+                    pct(q.under_dug),
+                    pct(q.over_dug),
+                    q.max_over_depth_mm,
+                    seconds(q.planning_seconds)
+                );
+            }
+            Some(Err(e)) => {
+                let _ = writeln!(out, "| {} | no plan: {e} | | | | | | | |", w.task);
+            }
+        }
+    }
 }
 
 /// What the command prints: the goals and Table 4.

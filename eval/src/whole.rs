@@ -7,6 +7,7 @@ use crate::baselines::Baseline;
 use crate::digs::name_key;
 use crate::planning::{PlanFailure, PlanRun, run_plan};
 use crate::tasks::NamedTask;
+use dataset_gen::library::{self, Library, Refit};
 use dataset_gen::predictor::OptimiserPredictor;
 use dataset_gen::rng::derive_seed;
 use dataset_gen::sequence::{SequenceSettings, optimise_task};
@@ -96,6 +97,79 @@ pub struct WholeTaskRow {
     /// profile), when run: its plan, or why it found none.
     #[serde(default)]
     pub sequence: Option<Result<PlanSummary, String>>,
+    /// Planned from the plan library (its nearest plans refitted), when
+    /// run: the best refit, or why none was feasible.
+    #[serde(default)]
+    pub library: Option<Result<PlanSummary, String>>,
+}
+
+/// The plan library a whole-task comparison refits from
+/// ([`dataset_gen::library`]) and the refit's budget.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct LibraryRefit {
+    /// The library's folder (`dataset_gen library` writes one; the shipped
+    /// one is `artifacts/library`).
+    pub dir: std::path::PathBuf,
+    /// Library plans refitted per task (the nearest tasks').
+    pub neighbours: usize,
+    /// Sequence evaluations of each refit.
+    pub budget: usize,
+}
+
+impl Default for LibraryRefit {
+    fn default() -> Self {
+        LibraryRefit {
+            dir: "artifacts/library".into(),
+            neighbours: 8,
+            budget: 5000,
+        }
+    }
+}
+
+/// Each task planned from `library`, one task after the other (each
+/// refits its neighbours in parallel); the best refit's plan, with the
+/// wall time of the whole refit as its planning time, or why none was
+/// feasible. Deterministic whatever the threads.
+pub fn refit_from_library(
+    planner: &Planner,
+    library: &Library,
+    tasks: &[NamedTask],
+    refit: &LibraryRefit,
+    bar: &indicatif::ProgressBar,
+) -> Result<Vec<Result<Plan, String>>, dataset_gen::Error> {
+    let settings = SequenceSettings {
+        polish: refit.budget,
+        ..SequenceSettings::default()
+    };
+    tasks
+        .iter()
+        .map(|t| {
+            let clock = std::time::Instant::now();
+            let (refits, best) = library::refit_from_library(
+                planner,
+                library,
+                &t.task,
+                refit.neighbours,
+                &settings,
+            )?;
+            bar.inc(1);
+            let seconds = clock.elapsed().as_secs_f64();
+            Ok(match best.and_then(|i| refits.into_iter().nth(i)) {
+                Some(Refit {
+                    result: Ok(mut plan),
+                    ..
+                }) => {
+                    plan.planning_seconds = seconds;
+                    Ok(plan)
+                }
+                _ => Err(format!(
+                    "no refit of the {} nearest library plans is feasible",
+                    refit.neighbours
+                )),
+            })
+        })
+        .collect()
 }
 
 /// Each task's digs chosen as one sequence by PSO

@@ -7,7 +7,7 @@ use eval::digs::{DigRow, compare_digs};
 use eval::evaluation::{Coverage, EvalSettings, evaluate};
 use eval::networks::Networks;
 use eval::planning::{PlanRun, run_plan};
-use eval::whole::{PlanSummary, plan_with_optimiser};
+use eval::whole::{LibraryRefit, PlanSummary, plan_with_optimiser};
 use eval::{output, tasks};
 use indicatif::ProgressBar;
 use infer::{Config, DigPredictor, DigQuery, Ground, Planner, PlannerSettings, TrenchTask};
@@ -236,11 +236,17 @@ fn small_evaluation_writes_every_report_file() {
             polish: 20,
             ..SequenceSettings::default()
         },
+        library: Some(LibraryRefit {
+            dir: Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/library"),
+            neighbours: 2,
+            budget: 20,
+        }),
         ..EvalSettings::default()
     };
     let report = evaluate(&Config::default(), &networks(), &settings, false).unwrap();
     assert_eq!(report.whole.len(), 4);
     assert!(report.whole.iter().all(|w| w.sequence.is_some()));
+    assert!(report.whole.iter().all(|w| w.library.is_some()));
     assert_eq!(report.tasks.len(), 5);
     assert_eq!(report.tasks[4].name, "R01");
     assert!(!report.tasks[4].dig_by_dig);
@@ -301,6 +307,13 @@ fn small_evaluation_writes_every_report_file() {
                 dir.join(format!("plans/{}_sequence.json", w.task))
                     .is_file()
             ),
+            Err(e) => assert!(md.contains(&format!("| {} | no plan: {e}", w.task))),
+        }
+    }
+    assert!(md.contains("## Whole tasks: from the plan library"));
+    for w in &report.whole {
+        match w.library.as_ref().unwrap() {
+            Ok(_) => assert!(dir.join(format!("plans/{}_library.json", w.task)).is_file()),
             Err(e) => assert!(md.contains(&format!("| {} | no plan: {e}", w.task))),
         }
     }

@@ -192,7 +192,7 @@ enum Command {
         #[arg(long, default_value = "runs/library")]
         library: PathBuf,
         /// Library plans refitted (the nearest tasks).
-        #[arg(long, default_value_t = 3)]
+        #[arg(long, default_value_t = 8)]
         neighbours: usize,
         /// Sequence evaluations of each refit.
         #[arg(long, default_value_t = 5000)]
