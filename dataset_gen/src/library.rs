@@ -288,9 +288,11 @@ pub struct Refit {
 }
 
 /// Refits the `k` nearest library plans to `task` (in parallel, each
-/// with `settings.polish` sequence evaluations) and returns all of them
-/// with the index of the best feasible one (least under- plus over-dug
-/// area; ties: the nearer), if any. Deterministic whatever the threads.
+/// with `settings.polish` sequence evaluations and its
+/// `weight_objective`) and returns all of them with the index of the best
+/// feasible one (least under- plus over-dug area plus the weighted mean
+/// dig objective; ties: the nearer), if any. Deterministic whatever the
+/// threads.
 pub fn refit_from_library(
     planner: &Planner,
     library: &Library,
@@ -318,11 +320,13 @@ pub fn refit_from_library(
             })
         })
         .collect::<Result<Vec<_>, Error>>()?;
+    // What the refit minimised: the profile error and the weighted mean dig objective.
     let error = |r: &Refit| {
-        r.result
-            .as_ref()
-            .ok()
-            .map(|p| p.metrics.under_dug + p.metrics.over_dug)
+        r.result.as_ref().ok().map(|p| {
+            let n = p.digs.len().max(1) as f64;
+            let objective: f64 = p.digs.iter().map(|d| d.dig.report.objective).sum();
+            p.metrics.under_dug + p.metrics.over_dug + settings.weight_objective * objective / n
+        })
     };
     let best = (0..refits.len())
         .filter_map(|i| error(&refits[i]).map(|e| (e, i)))

@@ -197,6 +197,9 @@ enum Command {
         /// Sequence evaluations of each refit.
         #[arg(long, default_value_t = 5000)]
         budget: usize,
+        /// Weight of the digs' mean objective next to the profile error.
+        #[arg(long, default_value_t = 0.0)]
+        weight_objective: f64,
         #[arg(long, default_value = "refitted_plan")]
         out: PathBuf,
     },
@@ -496,6 +499,7 @@ fn main_inner() -> Result<(), Error> {
             library,
             neighbours,
             budget,
+            weight_objective,
             out,
         } => {
             let (task, title) = task.read().map_err(Error::BadArgument)?;
@@ -503,6 +507,7 @@ fn main_inner() -> Result<(), Error> {
             let lib = library::Library::load(&library)?;
             let settings = SequenceSettings {
                 polish: budget,
+                weight_objective,
                 ..SequenceSettings::default()
             };
             let clock = std::time::Instant::now();
