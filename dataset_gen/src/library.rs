@@ -137,7 +137,9 @@ pub struct BuildReport {
 /// sequence-PSO plan (seed derived from (seed, i)) in `task_NNN.json`.
 /// A file already there is kept, so an interrupted build resumes where it
 /// stopped; each file is written whole (temporary file, then rename), so
-/// an interruption never leaves half a plan. `bar` counts the sequences
+/// an interruption never leaves half a plan. A task sequence PSO finds no
+/// feasible plan for is reported and has no file (a resume tries it
+/// again, with the same result). `bar` counts the sequences
 /// evaluated ([`LibrarySettings::evaluations`] in all). Same settings, same
 /// files, whatever the threads.
 pub fn build(
@@ -177,20 +179,26 @@ pub fn build(
     let mut report = BuildReport::default();
     for i in 0..settings.tasks {
         let path = entry_path(dir, i);
+        let task = random_task(planner, settings.seed, i, &settings.ranges).ok_or_else(|| {
+            Error::BadSettings(format!(
+                "no random task the planner accepts in {MAX_DRAWS} draws; widen the ranges"
+            ))
+        })?;
         if path.exists() {
-            // A kept file must still read as a plan, or the resume would build on a corrupt entry.
-            read_plan(&path)?;
+            // A kept file must still be this task's plan, or the resume
+            // would build on a corrupt or foreign entry.
+            if read_plan(&path)?.task != task {
+                return Err(Error::BadArgument(format!(
+                    "{}: the plan of another task than this library's task {}; delete it to build it again",
+                    path.display(),
+                    i + 1
+                )));
+            }
             report.kept += 1;
             if let Some(bar) = bar {
                 bar.inc(settings.sequence.evaluations());
             }
         } else {
-            let task =
-                random_task(planner, settings.seed, i, &settings.ranges).ok_or_else(|| {
-                    Error::BadSettings(format!(
-                        "no random task the planner accepts in {MAX_DRAWS} draws; widen the ranges"
-                    ))
-                })?;
             let seed = derive_seed(settings.seed ^ 0x9E37, i as u64);
             match optimise_task(planner, &task, &settings.sequence, seed, bar) {
                 Ok(plan) => {

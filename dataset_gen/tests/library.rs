@@ -83,6 +83,11 @@ fn a_build_resumes_without_redoing_or_changing_a_plan() {
     let e = build(&p, &other, &dir, None).unwrap_err();
     assert!(matches!(e, Error::BadSettings(_)), "{e}");
 
+    // Another task's plan in a task's place is refused.
+    std::fs::copy(entry_path(&dir, 0), entry_path(&dir, 1)).unwrap();
+    let e = build(&p, &settings, &dir, None).unwrap_err();
+    assert!(e.to_string().contains("another task"), "{e}");
+
     // A corrupt entry is named, by the resume and by the loader.
     std::fs::write(entry_path(&dir, 1), "{\"task\": ").unwrap();
     for e in [
