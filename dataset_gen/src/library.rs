@@ -12,7 +12,7 @@
 
 use crate::error::Error;
 use crate::rng::{derive_seed, rng_from_seed, uniform_in};
-use crate::sequence::{SequenceSettings, carry_over, optimise_task, refit_task};
+use crate::sequence::{SequenceSettings, carry_over, optimise_task, plan_value, refit_task};
 use infer::plan::Plan;
 use infer::{DesignProfile, Planner, TrenchTask};
 use rayon::prelude::*;
@@ -298,9 +298,9 @@ pub struct Refit {
 /// Refits the `k` nearest library plans to `task` (in parallel, each
 /// with `settings.polish` sequence evaluations and its
 /// `weight_objective`) and returns all of them with the index of the best
-/// feasible one (least under- plus over-dug area plus the weighted mean
-/// dig objective; ties: the nearer), if any. Deterministic whatever the
-/// threads.
+/// feasible one (least [`plan_value`]; ties: the nearer), if any; its
+/// planning time is that of the whole refit. Deterministic, timings
+/// aside, whatever the threads.
 pub fn refit_from_library(
     planner: &Planner,
     library: &Library,
@@ -311,8 +311,9 @@ pub fn refit_from_library(
     if k == 0 {
         return Err(Error::BadSettings("refit at least one library plan".into()));
     }
+    let clock = std::time::Instant::now();
     let design = DesignProfile::new(planner.config(), task);
-    let refits = library
+    let mut refits = library
         .nearest(task, k)
         .into_par_iter()
         .map(|(path, plan)| {
@@ -328,17 +329,24 @@ pub fn refit_from_library(
             })
         })
         .collect::<Result<Vec<_>, Error>>()?;
-    // What the refit minimised: the profile error and the weighted mean dig objective.
-    let error = |r: &Refit| {
-        r.result.as_ref().ok().map(|p| {
-            let n = p.digs.len().max(1) as f64;
-            let objective: f64 = p.digs.iter().map(|d| d.dig.report.objective).sum();
-            p.metrics.under_dug + p.metrics.over_dug + settings.weight_objective * objective / n
-        })
+    let value = |r: &Refit| {
+        r.result
+            .as_ref()
+            .ok()
+            .map(|p| plan_value(p, settings.weight_objective))
     };
     let best = (0..refits.len())
-        .filter_map(|i| error(&refits[i]).map(|e| (e, i)))
+        .filter_map(|i| value(&refits[i]).map(|e| (e, i)))
         .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
         .map(|(_, i)| i);
+    // The best plan's planning time is the whole refit's: carrying over
+    // and refitting every neighbour.
+    let seconds = clock.elapsed().as_secs_f64();
+    if let Some(Refit {
+        result: Ok(plan), ..
+    }) = best.map(|i| &mut refits[i])
+    {
+        plan.planning_seconds = seconds;
+    }
     Ok((refits, best))
 }

@@ -24,8 +24,8 @@ use infer::math::deg;
 use infer::plan::{DigRecord, Plan};
 use infer::repair::{Assessment, DesignGuard, assess};
 use infer::{
-    Config, DesignProfile, DigQuery, DigType, Ground, Outcome, PlannedDig, Planner, Pose, Terrain,
-    TrenchTask,
+    Config, DesignProfile, DigQuery, DigType, Ground, Outcome, PlannedDig, Planner, Pose,
+    ProfileMetrics, Terrain, TrenchTask,
 };
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -99,25 +99,23 @@ struct Decoded {
 }
 
 impl<'a> SequenceProblem<'a> {
-    #[allow(clippy::too_many_arguments)]
     fn new(
         planner: &Planner,
         design: &DesignProfile,
         start: &'a Terrain,
         digs: usize,
-        lo: &[f64],
-        hi: &[f64],
         weight_objective: f64,
         bar: Option<&'a indicatif::ProgressBar>,
     ) -> Self {
+        let (lo, hi) = bounds(design, digs);
         SequenceProblem {
             cfg: *planner.config(),
             design: *design,
             guard: planner.guard(design),
             start,
             digs,
-            lo: lo.to_vec(),
-            hi: hi.to_vec(),
+            lo,
+            hi,
             weight_objective,
             terrain: start.clone(),
             carve: Default::default(),
@@ -193,7 +191,7 @@ impl<'a> SequenceProblem<'a> {
             }
         }
         let m = self.design.compare(&self.terrain);
-        let f = m.under_dug + m.over_dug + self.weight_objective * objective / self.digs as f64;
+        let f = value(&m, objective / self.digs as f64, self.weight_objective);
         (f, violation)
     }
 }
@@ -291,8 +289,7 @@ pub fn optimise_task(
     let cfg = *planner.config();
     let design = DesignProfile::new(&cfg, task);
     let start = planner.initial_terrain(&design)?;
-    let (lo, hi) = bounds(&design, digs);
-    let problem = |bar| SequenceProblem::new(planner, &design, &start, digs, &lo, &hi, w, bar);
+    let problem = |bar| SequenceProblem::new(planner, &design, &start, digs, w, bar);
     let alg = AnyAlgorithm::by_name("pso", settings.population)?;
     let runs = (0..settings.restarts as u64)
         .into_par_iter()
@@ -333,6 +330,20 @@ pub fn optimise_task(
         evaluations,
         clock,
     ))
+}
+
+/// What a sequence search minimises: under- plus over-dug area plus the
+/// weighted mean dig objective.
+fn value(m: &ProfileMetrics, mean_objective: f64, weight_objective: f64) -> f64 {
+    m.under_dug + m.over_dug + weight_objective * mean_objective
+}
+
+/// [`value`] of a finished plan (what [`optimise_task`] and [`refit_task`]
+/// minimised, for comparing their plans).
+pub fn plan_value(plan: &Plan, weight_objective: f64) -> f64 {
+    let n = plan.digs.len().max(1) as f64;
+    let objective: f64 = plan.digs.iter().map(|d| d.dig.report.objective).sum();
+    value(&plan.metrics, objective / n, weight_objective)
 }
 
 /// The variables' box for `digs` digs on `design`: the start from 2 cm
@@ -491,12 +502,11 @@ pub fn refit_task(
     let cfg = *planner.config();
     let design = DesignProfile::new(&cfg, task);
     let start = planner.initial_terrain(&design)?;
-    let (lo, hi) = bounds(&design, digs);
-    let mut p = SequenceProblem::new(planner, &design, &start, digs, &lo, &hi, w, None);
+    let mut p = SequenceProblem::new(planner, &design, &start, digs, w, None);
     // A start: a variable carried over outside this design's box starts on its edge.
     let x: Vec<f64> = init
         .iter()
-        .zip(lo.iter().zip(&hi))
+        .zip(p.lo.iter().zip(&p.hi))
         .map(|(v, (l, h))| v.clamp(*l, *h))
         .collect();
     let mut f = [0.0];

@@ -7,7 +7,7 @@ use crate::baselines::Baseline;
 use crate::digs::name_key;
 use crate::planning::{PlanFailure, PlanRun, run_plan};
 use crate::tasks::NamedTask;
-use dataset_gen::library::{self, Library, Refit};
+use dataset_gen::library::{self, Library};
 use dataset_gen::predictor::OptimiserPredictor;
 use dataset_gen::rng::derive_seed;
 use dataset_gen::sequence::{SequenceSettings, optimise_task};
@@ -128,9 +128,9 @@ impl Default for LibraryRefit {
 }
 
 /// Each task planned from `library`, one task after the other (each
-/// refits its neighbours in parallel); the best refit's plan, with the
-/// wall time of the whole refit as its planning time, or why none was
-/// feasible. Deterministic whatever the threads.
+/// refits its neighbours in parallel); the best refit's plan (its planning
+/// time that of the whole refit), or why none was feasible. Deterministic,
+/// timings aside, whatever the threads.
 pub fn refit_from_library(
     planner: &Planner,
     library: &Library,
@@ -145,7 +145,6 @@ pub fn refit_from_library(
     tasks
         .iter()
         .map(|t| {
-            let clock = std::time::Instant::now();
             let (refits, best) = library::refit_from_library(
                 planner,
                 library,
@@ -154,20 +153,15 @@ pub fn refit_from_library(
                 &settings,
             )?;
             bar.inc(1);
-            let seconds = clock.elapsed().as_secs_f64();
-            Ok(match best.and_then(|i| refits.into_iter().nth(i)) {
-                Some(Refit {
-                    result: Ok(mut plan),
-                    ..
-                }) => {
-                    plan.planning_seconds = seconds;
-                    Ok(plan)
-                }
-                _ => Err(format!(
-                    "no refit of the {} nearest library plans is feasible",
-                    refit.neighbours
-                )),
-            })
+            Ok(best
+                .and_then(|i| refits.into_iter().nth(i))
+                .and_then(|r| r.result.ok())
+                .ok_or_else(|| {
+                    format!(
+                        "no refit of the {} nearest library plans is feasible",
+                        refit.neighbours
+                    )
+                }))
         })
         .collect()
 }

@@ -510,10 +510,8 @@ fn main_inner() -> Result<(), Error> {
                 weight_objective,
                 ..SequenceSettings::default()
             };
-            let clock = std::time::Instant::now();
             let (refits, best) =
                 library::refit_from_library(&planner, &lib, &task, neighbours, &settings)?;
-            let seconds = clock.elapsed().as_secs_f64();
             let tried: Vec<_> = refits
                 .iter()
                 .map(|r| match &r.result {
@@ -524,7 +522,7 @@ fn main_inner() -> Result<(), Error> {
                     Err(why) => serde_json::json!({ "source": r.source, "infeasible": why }),
                 })
                 .collect();
-            let Some(Ok(mut plan)) = best
+            let Some(Ok(plan)) = best
                 .and_then(|i| refits.into_iter().nth(i))
                 .map(|r| r.result)
             else {
@@ -533,7 +531,6 @@ fn main_inner() -> Result<(), Error> {
                     serde_json::to_string(&tried)?
                 )));
             };
-            plan.planning_seconds = seconds;
             let mut v = write_plan(&out, &plan, &format!("{title} (refitted from the library)"))?;
             v["tried"] = serde_json::Value::Array(tried);
             print(&v)
