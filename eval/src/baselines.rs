@@ -8,15 +8,16 @@
 //! not; the comparison is of the dig problem the network was trained to
 //! answer. A guarded baseline solves the problem the planner's digs are
 //! held to instead: the same dig with the planner's design guard as one
-//! more constraint.
+//! more constraint. The network alone answers the optimisers' problem too:
+//! its Y for the dig's query, checked and repaired without the guard.
 
 use crate::planning::PlanStep;
 use dataset_gen::algorithms::{AnyAlgorithm, Gwo, Nsga2, Pso};
 use dataset_gen::dig_problem::{DigBounds, DigProblem, objective_for, solve_problem};
 use dataset_gen::rng::rng_from_seed;
 use dataset_gen::runner::Budget;
-use infer::repair::{DesignGuard, assess};
-use infer::{CarveBuffer, Config, DigParams, DigReport, Ground};
+use infer::repair::{DesignGuard, RepairSettings, assess, repair};
+use infer::{CarveBuffer, Config, DigParams, DigPredictor, DigReport, Ground, Outcome};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -106,6 +107,7 @@ impl Baseline {
 /// Display name of a method: network, PSO, GWO, NSGA-II.
 pub fn method_label(name: &str) -> &str {
     match name {
+        "alone" => "network alone",
         "pso" => "PSO",
         "gwo" => "GWO",
         "nsga2" => "NSGA-II",
@@ -246,5 +248,74 @@ pub fn solve_again(
             format!("the exact model could not evaluate the optimiser's answer: {e}"),
             seconds,
         ),
+    }
+}
+
+/// The network's answer to the single-dig problem the optimisers solve.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AloneDig {
+    /// How the answer was made feasible; `None` when repair failed.
+    pub outcome: Option<Outcome>,
+    pub figures: DigFigures,
+}
+
+/// The network alone on the problem of [`solve_again`]: its Y for the dig's
+/// query, checked by the exact model on the surface before the dig and, if
+/// it breaks a constraint, repaired (time rescaling, then the bounded
+/// refinement of `settings`) without the design guard, as the source's
+/// network answers a dig. Timed from the forward pass to the checked
+/// answer; the cut is then measured against `guard`, untimed.
+pub fn answer_alone(
+    cfg: &Config,
+    step: &PlanStep,
+    guard: &DesignGuard,
+    predictor: &mut impl DigPredictor,
+    settings: &RepairSettings,
+) -> AloneDig {
+    let clock = Instant::now();
+    let dig = &step.dig;
+    let task = dig.query.task();
+    let ground = Ground {
+        terrain: &step.terrain_before,
+        base_x: dig.base_x,
+    };
+    let mut scratch = CarveBuffer::default();
+    let answer = predictor
+        .predict(&dig.query, ground)
+        .map_err(|e| e.to_string())
+        .and_then(|y| {
+            repair(cfg, &task, &y, ground, &mut scratch, None, settings).map_err(|e| e.to_string())
+        });
+    let seconds = clock.elapsed().as_secs_f64();
+    let repaired = match answer {
+        Ok(r) => r,
+        Err(why) => {
+            return AloneDig {
+                outcome: None,
+                figures: DigFigures::failed([f64::NAN; 4], why, seconds),
+            };
+        }
+    };
+    let y = repaired.params.to_array();
+    let figures = match assess(
+        cfg,
+        &task,
+        &repaired.params,
+        ground,
+        &mut scratch,
+        Some(guard),
+    ) {
+        Ok(a) => DigFigures::from_report(
+            y,
+            &repaired.assessment.report,
+            a.over_dig.max_depth * 1e3,
+            guard.violation(&a.over_dig) == 0.0,
+            seconds,
+        ),
+        Err(e) => DigFigures::failed(y, e.to_string(), seconds),
+    };
+    AloneDig {
+        outcome: Some(repaired.outcome),
+        figures,
     }
 }

@@ -1,12 +1,13 @@
 //! The dig-by-dig comparison: every dig of the network's plans solved again
 //! by each optimiser baseline from the same start and end, on the same
 //! surface, with per-dig seeds so the numbers do not depend on the number
-//! of threads.
+//! of threads. The network alone answers the same problem, timed one dig
+//! after another so nothing else competes for the core.
 
-use crate::baselines::{Baseline, DigFigures, solve_again};
+use crate::baselines::{AloneDig, Baseline, DigFigures, answer_alone, solve_again};
 use crate::planning::PlanRun;
 use dataset_gen::rng::derive_seed;
-use infer::{DigType, Outcome, Planner, Pose};
+use infer::{DigPredictor, DigType, Outcome, Planner, Pose, SurfaceMatched};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -37,12 +38,24 @@ pub struct DigRow {
     pub end: Pose,
     /// The dig as planned with the network (after validation and repair).
     pub network: DigFigures,
+    /// The network alone on the optimisers' problem (no design guard).
+    pub alone: AloneDig,
     pub baselines: Vec<BaselineDig>,
 }
 
 impl DigRow {
     pub fn baseline(&self, method: &str) -> Option<&BaselineDig> {
         self.baselines.iter().find(|b| b.method == method)
+    }
+
+    /// The figures of `method`: network (as planned), alone (the network
+    /// on the optimisers' problem) or an optimiser.
+    pub fn figures(&self, method: &str) -> Option<&DigFigures> {
+        match method {
+            "network" => Some(&self.network),
+            "alone" => Some(&self.alone.figures),
+            _ => self.baseline(method).map(|b| &b.figures),
+        }
     }
 }
 
@@ -60,10 +73,13 @@ pub fn name_key(name: &str) -> u64 {
 }
 
 /// Solves every dig of `runs` (one per task, named) again with each
-/// baseline, in parallel over digs on the current rayon pool.
+/// baseline, in parallel over digs on the current rayon pool, and with
+/// the network alone (asked until its dig fills the bucket on the real
+/// surface), one dig after the other after an untimed warm-up pass.
 pub fn compare_digs(
     planner: &Planner,
     runs: &[(&str, &PlanRun)],
+    network: &mut SurfaceMatched<impl DigPredictor>,
     baselines: &[Baseline],
     seed: u64,
     bar: &indicatif::ProgressBar,
@@ -73,8 +89,19 @@ pub fn compare_digs(
         .enumerate()
         .flat_map(|(t, (_, run))| (0..run.steps.len()).map(move |d| (t, d)))
         .collect();
+    let mut answer = |&(t, d): &(usize, usize)| {
+        let run = runs[t].1;
+        let guard = planner.guard(&run.plan.design);
+        let repair = &planner.settings().repair;
+        answer_alone(planner.config(), &run.steps[d], &guard, network, repair)
+    };
+    for j in &jobs {
+        answer(j);
+    }
+    let alone: Vec<AloneDig> = jobs.iter().map(answer).collect();
     jobs.par_iter()
-        .map(|&(t, d)| {
+        .zip(alone)
+        .map(|(&(t, d), alone)| {
             let (name, run) = runs[t];
             let step = &run.steps[d];
             let dig = &step.dig;
@@ -114,6 +141,7 @@ pub fn compare_digs(
                 start: dig.start,
                 end: dig.end,
                 network,
+                alone,
                 baselines,
             }
         })

@@ -18,7 +18,7 @@ use dataset_gen::batch::progress_bar;
 use dataset_gen::library::Library;
 use dataset_gen::sequence::SequenceSettings;
 use infer::plan::Plan;
-use infer::{Config, Planner, PlannerSettings, TrenchTask};
+use infer::{Config, Planner, PlannerSettings, SurfaceMatched, TrenchTask};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -74,6 +74,15 @@ pub struct EvalSettings {
     /// The planner's settings, for the network and the optimiser in the loop alike.
     #[serde(default)]
     pub planner: PlannerSettings,
+    /// Most predictions the network alone makes per dig on the optimisers'
+    /// problem, moving H until the dig fills the bucket on the real surface
+    /// (1: its first answer; see [`infer::SurfaceMatched`]).
+    #[serde(default = "alone_tries")]
+    pub alone_tries: usize,
+}
+
+fn alone_tries() -> usize {
+    4
 }
 
 fn reference_only() -> Coverage {
@@ -99,6 +108,7 @@ impl Default for EvalSettings {
             sequence_search: SequenceSettings::default(),
             library: Some(LibraryRefit::default()),
             planner: PlannerSettings::default(),
+            alone_tries: alone_tries(),
         }
     }
 }
@@ -261,6 +271,7 @@ pub fn evaluate(
     let digs = compare_digs(
         &planner,
         &selected,
+        &mut SurfaceMatched::new(networks.pair()?, cfg, settings.alone_tries)?,
         &settings.baselines,
         settings.seed,
         &bar,

@@ -108,10 +108,13 @@ pub fn objective_gap(path: &Path, report: &EvalReport) -> Result<(), EvalError> 
 /// Planning time of every dig per method on a log scale, with the median.
 pub fn dig_time(path: &Path, report: &EvalReport) -> Result<(), EvalError> {
     let e = plot_error(path);
-    let mut series: Vec<(String, Vec<f64>)> = vec![(
-        "network".into(),
-        report.digs.iter().map(|r| r.network.seconds).collect(),
-    )];
+    let mut series: Vec<(String, Vec<f64>)> = ["network", "alone"]
+        .into_iter()
+        .map(|m| {
+            let secs = report.digs.iter().filter_map(|r| r.figures(m));
+            (m.to_string(), secs.map(|f| f.seconds).collect())
+        })
+        .collect();
     for b in &report.summary.baselines {
         series.push((
             b.method.clone(),

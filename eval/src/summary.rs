@@ -40,6 +40,87 @@ pub struct BaselineSummary {
     pub dig_seconds: Distribution,
 }
 
+/// The network alone against one optimiser on the optimisers' problem.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AloneAgainst {
+    pub method: String,
+    /// Digs where both answers are feasible, and the mean objective of
+    /// each over them.
+    pub digs: usize,
+    pub mean_objective: f64,
+    pub alone_mean_objective: f64,
+    /// Network mean / optimiser mean (1.02: the network is 2 % worse).
+    pub objective_ratio: f64,
+    /// Per-dig network / optimiser objective.
+    pub dig_ratio: Distribution,
+}
+
+/// The network alone on the single-dig problem the optimisers solve: its
+/// answer to each dig's query, checked and repaired without the design guard.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct AloneSummary {
+    pub digs: usize,
+    /// Answers feasible as predicted, after rescaling and after refinement.
+    pub predicted: usize,
+    pub rescaled: usize,
+    pub refined: usize,
+    /// Answers the repair could not make feasible.
+    pub failed: usize,
+    /// Of the feasible answers, those that also stay within the design guard.
+    pub within_design: usize,
+    /// Forward pass, exact check and repair, per dig \[s\].
+    pub dig_seconds: Distribution,
+    /// Median PSO time per dig / this median.
+    pub speedup_vs_pso: f64,
+    pub against: Vec<AloneAgainst>,
+}
+
+fn alone_summary(digs: &[DigRow], baselines: &[BaselineSummary]) -> AloneSummary {
+    let count = |o: Outcome| digs.iter().filter(|r| r.alone.outcome == Some(o)).count();
+    let secs: Vec<f64> = digs.iter().map(|r| r.alone.figures.seconds).collect();
+    let dig_seconds = Distribution::of(&secs);
+    let against = baselines
+        .iter()
+        .map(|b| {
+            let both: Vec<(f64, f64)> = digs
+                .iter()
+                .filter_map(|r| {
+                    let f = &r.baseline(&b.method)?.figures;
+                    let a = &r.alone.figures;
+                    (f.feasible && a.feasible).then_some((a.objective, f.objective))
+                })
+                .collect();
+            let n = both.len() as f64;
+            let alone = both.iter().map(|p| p.0).sum::<f64>() / n;
+            let method = both.iter().map(|p| p.1).sum::<f64>() / n;
+            let ratios: Vec<f64> = both.iter().map(|(a, m)| a / m).collect();
+            AloneAgainst {
+                method: b.method.clone(),
+                digs: both.len(),
+                mean_objective: method,
+                alone_mean_objective: alone,
+                objective_ratio: alone / method,
+                dig_ratio: Distribution::of(&ratios),
+            }
+        })
+        .collect();
+    let pso = baselines.iter().find(|b| b.method == "pso");
+    AloneSummary {
+        digs: digs.len(),
+        predicted: count(Outcome::Predicted),
+        rescaled: count(Outcome::Rescaled),
+        refined: count(Outcome::Refined),
+        failed: digs.iter().filter(|r| r.alone.outcome.is_none()).count(),
+        within_design: digs
+            .iter()
+            .filter(|r| r.alone.figures.feasible && r.alone.figures.within_design)
+            .count(),
+        speedup_vs_pso: pso.map_or(f64::NAN, |p| p.dig_seconds.median / dig_seconds.median),
+        dig_seconds,
+        against,
+    }
+}
+
 /// Every way a planned dig comes about, in the order reports list them.
 const OUTCOMES: [Outcome; 4] = [
     Outcome::Predicted,
@@ -79,6 +160,7 @@ pub struct Summary {
     pub network_dig_seconds_by_outcome: Vec<(Outcome, Distribution)>,
     pub network_task_seconds: Distribution,
     pub baselines: Vec<BaselineSummary>,
+    pub alone: AloneSummary,
     /// Median PSO time per dig / median network time per dig.
     pub speedup_vs_pso: f64,
     /// Whole-task comparison: tasks each planner finished.
@@ -213,6 +295,7 @@ pub fn summarise(
         p.dig_seconds.median / network_dig_seconds.median
     });
     let network_infeasible = tasks.iter().map(|t| t.network.infeasible).sum();
+    let alone = alone_summary(digs, &baselines);
     let mut goals = Vec::new();
     if let Some(p) = pso {
         goals.push(Goal {
@@ -243,6 +326,34 @@ pub fn summarise(
                 network_dig_seconds.median * 1e6
             ),
             met: speedup >= 1000.0,
+        });
+        if let Some(a) = alone.against.iter().find(|a| a.method == "pso") {
+            goals.push(Goal {
+                what: "the network alone on PSO's problem (forward pass, exact check, repair; no design guard): mean dig objective relative to PSO's (digs where both are feasible)".into(),
+                target: "≤ 1.02".into(),
+                measured: format!(
+                    "{:.4} ({:.4} vs {:.4} over {} digs; {} of {} answers feasible)",
+                    a.objective_ratio,
+                    a.alone_mean_objective,
+                    a.mean_objective,
+                    a.digs,
+                    alone.digs - alone.failed,
+                    alone.digs
+                ),
+                met: a.objective_ratio <= 1.02 && alone.failed == 0,
+            });
+        }
+        goals.push(Goal {
+            what: "time per dig on that problem, PSO / the network alone (medians, same run)"
+                .into(),
+            target: "≥ 1,000 ×".into(),
+            measured: format!(
+                "{:.0} × ({:.1} ms vs {:.1} µs)",
+                alone.speedup_vs_pso,
+                p.dig_seconds.median * 1e3,
+                alone.dig_seconds.median * 1e6
+            ),
+            met: alone.speedup_vs_pso >= 1000.0,
         });
         goals.push(Goal {
             what: "PSO 50 × 100 time per dig, one core (dataset_gen goal ≥ 20 /s on 2 cores; source 69 s)"
@@ -287,6 +398,7 @@ pub fn summarise(
             .collect(),
         network_task_seconds: Distribution::of(&task_secs),
         baselines,
+        alone,
         speedup_vs_pso: speedup,
         whole_tasks: whole.len(),
         whole_network_complete: whole.iter().filter(|w| w.network.complete).count(),

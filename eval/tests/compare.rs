@@ -10,7 +10,9 @@ use eval::planning::{PlanRun, run_plan};
 use eval::whole::{LibraryRefit, PlanSummary, plan_with_optimiser};
 use eval::{output, tasks};
 use indicatif::ProgressBar;
-use infer::{Config, DigPredictor, DigQuery, Ground, Planner, PlannerSettings, TrenchTask};
+use infer::{
+    Config, DigPredictor, DigQuery, Ground, Planner, PlannerSettings, SurfaceMatched, TrenchTask,
+};
 use std::path::{Path, PathBuf};
 
 fn networks() -> Networks {
@@ -38,6 +40,7 @@ fn plan_a(planner: &Planner, nets: &Networks) -> PlanRun {
 /// A row without its timings.
 fn untimed(mut r: DigRow) -> DigRow {
     r.network.seconds = 0.0;
+    r.alone.figures.seconds = 0.0;
     for b in &mut r.baselines {
         b.figures.seconds = 0.0;
     }
@@ -55,7 +58,16 @@ fn dig_by_dig_rows_are_consistent() {
     let (planner, nets) = (planner(), networks());
     let run = plan_a(&planner, &nets);
     assert!(!run.steps.is_empty(), "task A plans at least one dig");
-    let rows = compare_digs(&planner, &[("A", &run)], &tiny(), 7, &ProgressBar::hidden());
+    let cfg = Config::default();
+    let mut pair = SurfaceMatched::new(nets.pair().unwrap(), &cfg, 4).unwrap();
+    let rows = compare_digs(
+        &planner,
+        &[("A", &run)],
+        &mut pair,
+        &tiny(),
+        7,
+        &ProgressBar::hidden(),
+    );
     assert_eq!(rows.len(), run.steps.len());
     for (k, (row, step)) in rows.iter().zip(&run.steps).enumerate() {
         assert_eq!(row.task, "A");
@@ -67,6 +79,14 @@ fn dig_by_dig_rows_are_consistent() {
         assert_eq!(row.network.y, step.dig.params.to_array());
         assert!(row.network.feasible && row.network.within_design);
         assert_eq!(row.network.seconds, step.seconds);
+        // The network alone answers the same query; whatever repair made
+        // its answer, it is feasible, or it says why not.
+        let alone = &row.alone;
+        assert!(alone.figures.seconds > 0.0);
+        match alone.outcome {
+            Some(_) => assert!(alone.figures.feasible, "{alone:?}"),
+            None => assert!(!alone.figures.feasible && alone.figures.note.is_some()),
+        }
         let names: Vec<&str> = row.baselines.iter().map(|b| b.method.as_str()).collect();
         assert_eq!(names, ["pso", "gwo", "nsga2"]);
         for b in &row.baselines {
@@ -108,11 +128,18 @@ fn same_numbers_for_any_thread_count() {
             .build()
             .unwrap();
         pool.install(|| {
-            let rows: Vec<DigRow> =
-                compare_digs(&planner, &[("A", &run)], &tiny(), 3, &ProgressBar::hidden())
-                    .into_iter()
-                    .map(untimed)
-                    .collect();
+            let mut pair = SurfaceMatched::new(nets.pair().unwrap(), &cfg, 4).unwrap();
+            let rows: Vec<DigRow> = compare_digs(
+                &planner,
+                &[("A", &run)],
+                &mut pair,
+                &tiny(),
+                3,
+                &ProgressBar::hidden(),
+            )
+            .into_iter()
+            .map(untimed)
+            .collect();
             let whole = plan_with_optimiser(
                 &cfg,
                 &planner,
@@ -194,6 +221,7 @@ fn planning_failures_are_reported_not_panics() {
         compare_digs(
             &planner,
             &[("deep", &run)],
+            &mut SurfaceMatched::new(Broken, &Config::default(), 4).unwrap(),
             &tiny(),
             1,
             &ProgressBar::hidden()

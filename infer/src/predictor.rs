@@ -5,11 +5,12 @@
 //! right.
 
 use crate::config::Config;
-use crate::dig::{DigType, Ground};
+use crate::dig::{DigTask, DigType, Ground};
 use crate::error::Error;
+use crate::kinematics::forward;
 use crate::network::Network;
 use crate::query::DigQuery;
-use crate::repair::{RepairSettings, assess, refine};
+use crate::repair::{Assessment, RepairSettings, assess, refine, rescale, stretch_needed};
 use crate::terrain::{CarveBuffer, Terrain};
 use crate::trajectory::DigParams;
 
@@ -134,5 +135,119 @@ impl DigPredictor for RefinePredictor {
         Ok(best
             .map(|b| b.2)
             .unwrap_or(DigParams::from_array(self.seeds[0])))
+    }
+}
+
+/// A predictor that knows only a flat surface at H (the networks, trained
+/// so) asked until its dig fills the bucket on the real surface. On ground
+/// earlier digs carved, a flat surface at the dig's start is a poor
+/// stand-in and the dig comes out part-empty; a lower H makes the network
+/// dig deeper. Each try is one prediction and one exact evaluation, plus one
+/// more when the dig's speeds, accelerations or power allow a duration
+/// rescaled to their nearest limit (stretched to repair it, shortened to
+/// use the headroom). H moves by the missing volume over the bucket width
+/// and the chord, then by secant. The best try is returned, feasible first,
+/// then lowest objective; the caller still checks and repairs it.
+#[derive(Clone)]
+pub struct SurfaceMatched<P> {
+    inner: P,
+    cfg: Config,
+    scratch: CarveBuffer,
+    tries: usize,
+}
+
+impl<P> core::fmt::Debug for SurfaceMatched<P> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("SurfaceMatched")
+            .field("tries", &self.tries)
+            .finish()
+    }
+}
+
+/// The volume aimed at, as a fraction of V_max (V_max itself is a limit).
+const MATCH_FILL: f64 = 0.995;
+/// A try's volume within this fraction of V_max of the aim ends the search.
+const MATCH_TOLERANCE: f64 = 0.005;
+/// Furthest H is moved from the query's \[m\].
+const MATCH_SHIFT: f64 = 0.1;
+
+impl<P> SurfaceMatched<P> {
+    /// At most `tries` predictions per dig (1: `inner`'s answer, only rescaled).
+    pub fn new(inner: P, cfg: &Config, tries: usize) -> Result<Self, Error> {
+        cfg.validate()?;
+        if tries == 0 {
+            return Err(Error::BadConfig {
+                field: "surface matching tries (at least 1)",
+            });
+        }
+        Ok(SurfaceMatched {
+            inner,
+            cfg: *cfg,
+            scratch: CarveBuffer::default(),
+            tries,
+        })
+    }
+
+    /// `y` assessed, and with its duration rescaled to the nearest limit
+    /// of speed, acceleration and power: the better of the two.
+    fn assess_rescaled(
+        &mut self,
+        task: &DigTask,
+        y: DigParams,
+        ground: Ground<'_>,
+    ) -> Result<(Assessment, DigParams), Error> {
+        let a = assess(&self.cfg, task, &y, ground, &mut self.scratch, None)?;
+        let [t_min, t_max] = self.cfg.objective.duration;
+        let k = stretch_needed(&self.cfg, &a.report) * 1.002;
+        let k = k.clamp(t_min / y.duration, t_max / y.duration);
+        if !k.is_finite() || (k - 1.0).abs() < 1e-3 {
+            return Ok((a, y));
+        }
+        let z = rescale(&y, k);
+        let b = assess(&self.cfg, task, &z, ground, &mut self.scratch, None)?;
+        let better = (b.feasible, -b.report.objective) > (a.feasible, -a.report.objective);
+        Ok(if better { (b, z) } else { (a, y) })
+    }
+}
+
+impl<P: DigPredictor> DigPredictor for SurfaceMatched<P> {
+    fn predict(&mut self, query: &DigQuery, ground: Ground<'_>) -> Result<DigParams, Error> {
+        let task = query.task();
+        let [_, v_max] = self.cfg.objective.volume;
+        let aim = MATCH_FILL * v_max;
+        let m = &self.cfg.machine;
+        let chord = (forward(m, &query.start).x - forward(m, &query.end).x)
+            .abs()
+            .max(0.05);
+        let width = m.bucket_width;
+        let mut q = *query;
+        let mut best: Option<(bool, f64, DigParams)> = None;
+        let mut last: Option<(f64, f64)> = None;
+        for _ in 0..self.tries {
+            let y = self.inner.predict(&q, ground)?;
+            let Ok((a, y)) = self.assess_rescaled(&task, y, ground) else {
+                // The model rejects this answer outright; the caller's
+                // check says why if it is the only one.
+                best.get_or_insert((false, f64::INFINITY, y));
+                break;
+            };
+            if best.is_none_or(|(f, o, _)| (f, -o) < (a.feasible, -a.report.objective)) {
+                best = Some((a.feasible, a.report.objective, y));
+            }
+            let (h, v) = (q.surface, a.report.volume);
+            if (v - aim).abs() <= MATCH_TOLERANCE * v_max {
+                break;
+            }
+            let next = match last {
+                Some((h0, v0)) if (v - v0).abs() > 1e-7 => h + (aim - v) * (h - h0) / (v - v0),
+                _ => h - (aim - v) / (width * chord),
+            };
+            last = Some((h, v));
+            q.surface = next.clamp(query.surface - MATCH_SHIFT, query.surface + MATCH_SHIFT);
+            if q.surface == h {
+                break;
+            }
+        }
+        Ok(best.expect("at least one try").2)
     }
 }

@@ -631,3 +631,58 @@ fn an_evaluation_bound_holds_for_every_dig() {
         ));
     }
 }
+
+/// On ground earlier digs carved, the networks (which see a flat surface
+/// at H) under-fill; asked again with H moved, the dig fills the bucket,
+/// scores better, and the asking allocates nothing.
+#[test]
+fn surface_matching_fills_the_bucket_on_carved_ground() {
+    let (down, back) = (shipped(DigType::Downward), shipped(DigType::Backward));
+    let pair = infer::NetworkPair {
+        downward: down.network().unwrap(),
+        backward: back.network().unwrap(),
+    };
+    let cfg = Config::default();
+    let planner = Planner::new(&cfg, &PlannerSettings::default()).unwrap();
+    let mut state = planner.start(&TrenchTask::reference('D').unwrap()).unwrap();
+    let mut planning = pair;
+    let mut plain = pair;
+    let mut matched = infer::SurfaceMatched::new(pair, &cfg, 4).unwrap();
+    let mut scratch = CarveBuffer::default();
+    let mut gains = 0;
+    for _ in 0..3 {
+        let terrain = state.terrain().clone();
+        let Ok(Some(dig)) = planner.next_dig(&mut state, &mut planning) else {
+            break;
+        };
+        let ground = Ground {
+            terrain: &terrain,
+            base_x: dig.base_x,
+        };
+        let mut score = |y: DigParams| {
+            let a = assess(&cfg, &dig.query.task(), &y, ground, &mut scratch, None).unwrap();
+            (a.feasible, a.report.volume, a.report.objective)
+        };
+        let first = score(plain.predict(&dig.query, ground).unwrap());
+        let before = allocations();
+        let y = matched.predict(&dig.query, ground).unwrap();
+        assert_eq!(allocations(), before, "surface matching allocated");
+        let again = score(y);
+        assert!(
+            again.0 || !first.0,
+            "feasible before, not after: {first:?} {again:?}"
+        );
+        if first.0 && again.0 {
+            assert!(again.2 <= first.2 + 1e-12, "{first:?} → {again:?}");
+            if again.2 < first.2 - 0.01 {
+                gains += 1;
+                assert!(
+                    again.1 > first.1,
+                    "the gain is in the fill: {first:?} → {again:?}"
+                );
+            }
+        }
+    }
+    assert!(gains >= 1, "a carved surface where matching helps");
+    assert!(infer::SurfaceMatched::new(pair, &cfg, 0).is_err());
+}
