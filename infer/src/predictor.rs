@@ -143,9 +143,8 @@ impl DigPredictor for RefinePredictor {
 /// earlier digs carved, a flat surface at the dig's start is a poor
 /// stand-in and the dig comes out part-empty; a lower H makes the network
 /// dig deeper. Each try is one prediction and one exact evaluation, plus one
-/// more when the dig's speeds, accelerations or power allow a duration
-/// rescaled to their nearest limit (stretched to repair it, shortened to
-/// use the headroom). H moves by the missing volume over the bucket width
+/// more when the dig breaks a speed, acceleration or power limit that a
+/// longer duration meets. H moves by the missing volume over the bucket width
 /// and the chord, then by secant. The best try is returned, feasible first,
 /// then lowest objective; the caller still checks and repairs it.
 #[derive(Clone)]
@@ -188,8 +187,8 @@ impl<P> SurfaceMatched<P> {
         })
     }
 
-    /// `y` assessed, and with its duration rescaled to the nearest limit
-    /// of speed, acceleration and power: the better of the two.
+    /// `y` assessed, and if it breaks a speed, acceleration or power
+    /// limit, with its duration stretched to meet them: the better of the two.
     fn assess_rescaled(
         &mut self,
         task: &DigTask,
@@ -197,10 +196,9 @@ impl<P> SurfaceMatched<P> {
         ground: Ground<'_>,
     ) -> Result<(Assessment, DigParams), Error> {
         let a = assess(&self.cfg, task, &y, ground, &mut self.scratch, None)?;
-        let [t_min, t_max] = self.cfg.objective.duration;
-        let k = stretch_needed(&self.cfg, &a.report) * 1.002;
-        let k = k.clamp(t_min / y.duration, t_max / y.duration);
-        if !k.is_finite() || (k - 1.0).abs() < 1e-3 {
+        let t_max = self.cfg.objective.duration[1];
+        let k = (stretch_needed(&self.cfg, &a.report) * 1.002).min(t_max / y.duration);
+        if a.feasible || !(k > 1.0 + 1e-3) {
             return Ok((a, y));
         }
         let z = rescale(&y, k);
