@@ -16,8 +16,10 @@ use dataset_gen::algorithms::{AnyAlgorithm, Gwo, Nsga2, Pso};
 use dataset_gen::dig_problem::{DigBounds, DigProblem, objective_for, solve_problem};
 use dataset_gen::rng::rng_from_seed;
 use dataset_gen::runner::Budget;
-use infer::repair::{DesignGuard, RepairSettings, assess, repair};
-use infer::{CarveBuffer, Config, DigParams, DigPredictor, DigReport, Ground, Outcome};
+use infer::repair::{DesignGuard, RepairSettings, Repaired, assess, repair};
+use infer::{
+    CarveBuffer, Config, DigParams, DigPredictor, DigReport, Ground, Outcome, SurfaceMatched,
+};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -269,7 +271,7 @@ pub fn answer_alone(
     cfg: &Config,
     step: &PlanStep,
     guard: &DesignGuard,
-    predictor: &mut impl DigPredictor,
+    predictor: &mut SurfaceMatched<impl DigPredictor>,
     settings: &RepairSettings,
 ) -> AloneDig {
     let clock = Instant::now();
@@ -283,8 +285,20 @@ pub fn answer_alone(
     let answer = predictor
         .predict(&dig.query, ground)
         .map_err(|e| e.to_string())
-        .and_then(|y| {
-            repair(cfg, &task, &y, ground, &mut scratch, None, settings).map_err(|e| e.to_string())
+        .and_then(|y| match predictor.last_checked() {
+            // Checked already, on this ground without a guard: not again.
+            Some(c) if c.params == y && c.assessment.feasible => Ok(Repaired {
+                params: y,
+                assessment: c.assessment,
+                outcome: if c.stretched {
+                    Outcome::Rescaled
+                } else {
+                    Outcome::Predicted
+                },
+                evaluations: 1,
+            }),
+            _ => repair(cfg, &task, &y, ground, &mut scratch, None, settings)
+                .map_err(|e| e.to_string()),
         });
     let seconds = clock.elapsed().as_secs_f64();
     let repaired = match answer {

@@ -375,7 +375,7 @@ pub fn evaluate(
             dig_by_dig: settings.dig_by_dig.covers(t),
         });
     }
-    let summary = summarise(&reports, &runs, &digs, &whole);
+    let summary = summarise(&reports, &runs, &digs, &whole, settings.alone_tries);
     Ok(EvalReport {
         machine: train::job::machine(),
         load_average: [load_start, load_average()],

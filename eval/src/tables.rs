@@ -564,7 +564,8 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
     );
     let _ = writeln!(
         out,
-        "## The network alone on the optimisers' problem\n\nThe problem each optimiser solved above, answered by the network: its Y for the dig's query, checked by the exact model on the same surface and, if infeasible, repaired by time rescaling and the bounded refinement (at most {} evaluations), without the design guard. This is what the network replaces (the source's 4.2 ms against 69 s); the planner above also chooses each dig's start and end and fits the dig to the design.\n\n{}",
+        "## The network alone on the optimisers' problem\n\nThe problem each optimiser solved above, answered by the network: its Y for the dig's query, asked up to {} times with the surface height H it sees moved until the dig fills the bucket on the real surface (each try checked by the exact model), then checked and, if infeasible, repaired by time rescaling and the bounded refinement (at most {} evaluations), without the design guard. This is what the network replaces (the source's 4.2 ms against 69 s); the planner above also chooses each dig's start and end and fits the dig to the design.\n\n{}",
+        report.settings.alone_tries,
         report.settings.planner.repair.budget,
         alone_markdown(report)
     );

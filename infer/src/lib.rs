@@ -53,7 +53,7 @@ pub use error::Error;
 pub use kinematics::{Elbow, Pose, forward, inverse, tip_jacobian};
 pub use math::{deg, to_deg};
 pub use planner::{PlanError, PlanState, PlannedDig, Planner, PlannerSettings};
-pub use predictor::{DigPredictor, NetworkPair, RefinePredictor, SurfaceMatched};
+pub use predictor::{Checked, DigPredictor, NetworkPair, RefinePredictor, SurfaceMatched};
 pub use query::{DigQuery, QueryRanges};
 pub use repair::{Outcome, RepairSettings};
 pub use terrain::{CarveBuffer, Terrain};

@@ -146,13 +146,27 @@ impl DigPredictor for RefinePredictor {
 /// more when the dig breaks a speed, acceleration or power limit that a
 /// longer duration meets. H moves by the missing volume over the bucket width
 /// and the chord, then by secant. The best try is returned, feasible first,
-/// then lowest objective; the caller still checks and repairs it.
+/// then lowest objective; [`SurfaceMatched::last_checked`] has its check,
+/// so a caller need not evaluate it again.
 #[derive(Clone)]
 pub struct SurfaceMatched<P> {
     inner: P,
     cfg: Config,
     scratch: CarveBuffer,
     tries: usize,
+    last: Option<Checked>,
+}
+
+/// The answer of the last [`SurfaceMatched`] prediction as it was checked:
+/// a caller that validates it on the same ground without a guard need not
+/// evaluate it again.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Checked {
+    pub params: DigParams,
+    /// On the real surface, without a design guard.
+    pub assessment: Assessment,
+    /// Its duration was stretched to meet a speed, acceleration or power limit.
+    pub stretched: bool,
 }
 
 impl<P> core::fmt::Debug for SurfaceMatched<P> {
@@ -184,7 +198,14 @@ impl<P> SurfaceMatched<P> {
             cfg: *cfg,
             scratch: CarveBuffer::default(),
             tries,
+            last: None,
         })
+    }
+
+    /// The last answer as it was checked (`None` before the first, or if
+    /// the model rejected every try).
+    pub fn last_checked(&self) -> Option<&Checked> {
+        self.last.as_ref()
     }
 
     /// `y` assessed, and if it breaks a speed, acceleration or power
@@ -194,17 +215,30 @@ impl<P> SurfaceMatched<P> {
         task: &DigTask,
         y: DigParams,
         ground: Ground<'_>,
-    ) -> Result<(Assessment, DigParams), Error> {
+    ) -> Result<Checked, Error> {
         let a = assess(&self.cfg, task, &y, ground, &mut self.scratch, None)?;
+        let as_is = Checked {
+            params: y,
+            assessment: a,
+            stretched: false,
+        };
         let t_max = self.cfg.objective.duration[1];
         let k = (stretch_needed(&self.cfg, &a.report) * 1.002).min(t_max / y.duration);
         if a.feasible || !(k > 1.0 + 1e-3) {
-            return Ok((a, y));
+            return Ok(as_is);
         }
         let z = rescale(&y, k);
         let b = assess(&self.cfg, task, &z, ground, &mut self.scratch, None)?;
         let better = (b.feasible, -b.report.objective) > (a.feasible, -a.report.objective);
-        Ok(if better { (b, z) } else { (a, y) })
+        Ok(if better {
+            Checked {
+                params: z,
+                assessment: b,
+                stretched: true,
+            }
+        } else {
+            as_is
+        })
     }
 }
 
@@ -219,18 +253,21 @@ impl<P: DigPredictor> DigPredictor for SurfaceMatched<P> {
             .max(0.05);
         let width = m.bucket_width;
         let mut q = *query;
-        let mut best: Option<(bool, f64, DigParams)> = None;
+        self.last = None;
+        let mut first = None;
         let mut last: Option<(f64, f64)> = None;
         for _ in 0..self.tries {
             let y = self.inner.predict(&q, ground)?;
-            let Ok((a, y)) = self.assess_rescaled(&task, y, ground) else {
+            first.get_or_insert(y);
+            let Ok(c) = self.assess_rescaled(&task, y, ground) else {
                 // The model rejects this answer outright; the caller's
                 // check says why if it is the only one.
-                best.get_or_insert((false, f64::INFINITY, y));
                 break;
             };
-            if best.is_none_or(|(f, o, _)| (f, -o) < (a.feasible, -a.report.objective)) {
-                best = Some((a.feasible, a.report.objective, y));
+            let a = c.assessment;
+            let key = |a: &Assessment| (a.feasible, -a.report.objective);
+            if self.last.is_none_or(|b| key(&b.assessment) < key(&a)) {
+                self.last = Some(c);
             }
             let (h, v) = (q.surface, a.report.volume);
             if (v - aim).abs() <= MATCH_TOLERANCE * v_max {
@@ -246,6 +283,8 @@ impl<P: DigPredictor> DigPredictor for SurfaceMatched<P> {
                 break;
             }
         }
-        Ok(best.expect("at least one try").2)
+        Ok(self
+            .last
+            .map_or_else(|| first.expect("at least one try"), |c| c.params))
     }
 }

@@ -668,6 +668,17 @@ fn surface_matching_fills_the_bucket_on_carved_ground() {
         let y = matched.predict(&dig.query, ground).unwrap();
         assert_eq!(allocations(), before, "surface matching allocated");
         let again = score(y);
+        // The check it keeps is the answer's own.
+        let c = matched.last_checked().expect("checked");
+        assert_eq!(c.params, y);
+        assert_eq!(
+            (
+                c.assessment.feasible,
+                c.assessment.report.volume,
+                c.assessment.report.objective
+            ),
+            again
+        );
         assert!(
             again.0 || !first.0,
             "feasible before, not after: {first:?} {again:?}"
