@@ -271,7 +271,12 @@ pub fn evaluate(
     let digs = compare_digs(
         &planner,
         &selected,
-        &mut SurfaceMatched::new(networks.pair()?, cfg, settings.alone_tries)?,
+        &mut SurfaceMatched::new(
+            networks.pair()?,
+            cfg,
+            &settings.planner.ranges,
+            settings.alone_tries,
+        )?,
         &settings.baselines,
         settings.seed,
         &bar,

@@ -59,7 +59,7 @@ fn dig_by_dig_rows_are_consistent() {
     let run = plan_a(&planner, &nets);
     assert!(!run.steps.is_empty(), "task A plans at least one dig");
     let cfg = Config::default();
-    let mut pair = SurfaceMatched::new(nets.pair().unwrap(), &cfg, 4).unwrap();
+    let mut pair = SurfaceMatched::new(nets.pair().unwrap(), &cfg, &Default::default(), 4).unwrap();
     let rows = compare_digs(
         &planner,
         &[("A", &run)],
@@ -128,7 +128,8 @@ fn same_numbers_for_any_thread_count() {
             .build()
             .unwrap();
         pool.install(|| {
-            let mut pair = SurfaceMatched::new(nets.pair().unwrap(), &cfg, 4).unwrap();
+            let mut pair =
+                SurfaceMatched::new(nets.pair().unwrap(), &cfg, &Default::default(), 4).unwrap();
             let rows: Vec<DigRow> = compare_digs(
                 &planner,
                 &[("A", &run)],
@@ -221,7 +222,7 @@ fn planning_failures_are_reported_not_panics() {
         compare_digs(
             &planner,
             &[("deep", &run)],
-            &mut SurfaceMatched::new(Broken, &Config::default(), 4).unwrap(),
+            &mut SurfaceMatched::new(Broken, &Config::default(), &Default::default(), 4).unwrap(),
             &tiny(),
             1,
             &ProgressBar::hidden()

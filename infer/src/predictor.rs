@@ -9,7 +9,7 @@ use crate::dig::{DigTask, DigType, Ground};
 use crate::error::Error;
 use crate::kinematics::forward;
 use crate::network::Network;
-use crate::query::DigQuery;
+use crate::query::{DigQuery, QueryRanges};
 use crate::repair::{Assessment, RepairSettings, assess, refine, rescale, stretch_needed};
 use crate::terrain::{CarveBuffer, Terrain};
 use crate::trajectory::DigParams;
@@ -154,6 +154,8 @@ pub struct SurfaceMatched<P> {
     cfg: Config,
     scratch: CarveBuffer,
     tries: usize,
+    /// The range of H the network was trained on \[m\]: H stays inside it.
+    surface: [f64; 2],
     last: Option<Checked>,
 }
 
@@ -181,16 +183,22 @@ impl<P> core::fmt::Debug for SurfaceMatched<P> {
 const MATCH_FILL: f64 = 0.995;
 /// A try's volume within this fraction of V_max of the aim ends the search.
 const MATCH_TOLERANCE: f64 = 0.005;
-/// Furthest H is moved from the query's \[m\].
-const MATCH_SHIFT: f64 = 0.1;
 
 impl<P> SurfaceMatched<P> {
-    /// At most `tries` predictions per dig (1: `inner`'s answer, only rescaled).
-    pub fn new(inner: P, cfg: &Config, tries: usize) -> Result<Self, Error> {
+    /// At most `tries` predictions per dig (1: `inner`'s answer, only
+    /// rescaled), with H kept within the surface heights of `ranges`, the
+    /// query region the network was trained on.
+    pub fn new(inner: P, cfg: &Config, ranges: &QueryRanges, tries: usize) -> Result<Self, Error> {
         cfg.validate()?;
         if tries == 0 {
             return Err(Error::BadConfig {
                 field: "surface matching tries (at least 1)",
+            });
+        }
+        let [lo, hi] = ranges.surface;
+        if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+            return Err(Error::BadConfig {
+                field: "surface matching: the range of H",
             });
         }
         Ok(SurfaceMatched {
@@ -198,6 +206,7 @@ impl<P> SurfaceMatched<P> {
             cfg: *cfg,
             scratch: CarveBuffer::default(),
             tries,
+            surface: ranges.surface,
             last: None,
         })
     }
@@ -224,7 +233,7 @@ impl<P> SurfaceMatched<P> {
         };
         let t_max = self.cfg.objective.duration[1];
         let k = (stretch_needed(&self.cfg, &a.report) * 1.002).min(t_max / y.duration);
-        if a.feasible || !(k > 1.0 + 1e-3) {
+        if a.feasible || k.is_nan() || k <= 1.0 + 1e-3 {
             return Ok(as_is);
         }
         let z = rescale(&y, k);
@@ -255,7 +264,7 @@ impl<P: DigPredictor> DigPredictor for SurfaceMatched<P> {
         let mut q = *query;
         self.last = None;
         let mut first = None;
-        let mut last: Option<(f64, f64)> = None;
+        let mut previous: Option<(f64, f64)> = None;
         for _ in 0..self.tries {
             let y = self.inner.predict(&q, ground)?;
             first.get_or_insert(y);
@@ -273,12 +282,17 @@ impl<P: DigPredictor> DigPredictor for SurfaceMatched<P> {
             if (v - aim).abs() <= MATCH_TOLERANCE * v_max {
                 break;
             }
-            let next = match last {
+            let next = match previous {
                 Some((h0, v0)) if (v - v0).abs() > 1e-7 => h + (aim - v) * (h - h0) / (v - v0),
                 _ => h - (aim - v) / (width * chord),
             };
-            last = Some((h, v));
-            q.surface = next.clamp(query.surface - MATCH_SHIFT, query.surface + MATCH_SHIFT);
+            previous = Some((h, v));
+            let [lo, hi] = self.surface;
+            q.surface = if next.is_finite() {
+                next.clamp(lo, hi)
+            } else {
+                h
+            };
             if q.surface == h {
                 break;
             }

@@ -647,7 +647,8 @@ fn surface_matching_fills_the_bucket_on_carved_ground() {
     let mut state = planner.start(&TrenchTask::reference('D').unwrap()).unwrap();
     let mut planning = pair;
     let mut plain = pair;
-    let mut matched = infer::SurfaceMatched::new(pair, &cfg, 4).unwrap();
+    let mut matched =
+        infer::SurfaceMatched::new(pair, &cfg, &infer::QueryRanges::default(), 4).unwrap();
     let mut scratch = CarveBuffer::default();
     let mut gains = 0;
     for _ in 0..3 {
@@ -695,5 +696,5 @@ fn surface_matching_fills_the_bucket_on_carved_ground() {
         }
     }
     assert!(gains >= 1, "a carved surface where matching helps");
-    assert!(infer::SurfaceMatched::new(pair, &cfg, 0).is_err());
+    assert!(infer::SurfaceMatched::new(pair, &cfg, &infer::QueryRanges::default(), 0).is_err());
 }
