@@ -144,8 +144,8 @@ impl DigPredictor for RefinePredictor {
 /// stand-in and the dig comes out part-empty; a lower H makes the network
 /// dig deeper. Each try is one prediction and one exact evaluation, plus one
 /// more when the dig breaks a speed, acceleration or power limit that a
-/// longer duration meets. H moves by the missing volume over the bucket width
-/// and the chord, then by secant. The best try is returned, feasible first,
+/// longer duration meets. H moves by the missing volume over the bucket width,
+/// the chord and the network's response, then by secant. The best try is returned, feasible first,
 /// then lowest objective; [`SurfaceMatched::last_checked`] has its check,
 /// so a caller need not evaluate it again.
 #[derive(Clone)]
@@ -181,6 +181,12 @@ impl<P> core::fmt::Debug for SurfaceMatched<P> {
 
 /// The volume aimed at, as a fraction of V_max (V_max itself is a limit).
 const MATCH_FILL: f64 = 0.995;
+/// How far a network's dig moves when H moves, as a fraction: the first
+/// step assumes the volume grows by this × bucket width × chord per metre
+/// H falls. About 0.3 for the shipped and pipeline networks (measured on
+/// eval's random tasks of seed 5; then checked on seed 1, where it saved
+/// 30 % of the time at the same objective).
+const MATCH_RESPONSE: f64 = 0.3;
 /// A try's volume within this fraction of V_max of the aim ends the search.
 const MATCH_TOLERANCE: f64 = 0.005;
 
@@ -284,7 +290,7 @@ impl<P: DigPredictor> DigPredictor for SurfaceMatched<P> {
             }
             let next = match previous {
                 Some((h0, v0)) if (v - v0).abs() > 1e-7 => h + (aim - v) * (h - h0) / (v - v0),
-                _ => h - (aim - v) / (width * chord),
+                _ => h - (aim - v) / (MATCH_RESPONSE * width * chord),
             };
             previous = Some((h, v));
             let [lo, hi] = self.surface;
