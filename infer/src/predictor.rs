@@ -142,12 +142,14 @@ impl DigPredictor for RefinePredictor {
 /// so) asked until its dig fills the bucket on the real surface. On ground
 /// earlier digs carved, a flat surface at the dig's start is a poor
 /// stand-in and the dig comes out part-empty; a lower H makes the network
-/// dig deeper. Each try is one prediction and one exact evaluation, plus one
-/// more when the dig breaks a speed, acceleration or power limit that a
-/// longer duration meets. H moves by the missing volume over the bucket width,
-/// the chord and the network's response, then by secant. The best try is returned, feasible first,
-/// then lowest objective; [`SurfaceMatched::last_checked`] has its check,
-/// so a caller need not evaluate it again.
+/// dig deeper. Each try is one prediction and one exact evaluation, plus
+/// one more when the dig breaks a speed, acceleration or power limit that
+/// a longer duration meets. H moves first by the missing volume over the
+/// bucket width, the chord and the network's response, then by secant,
+/// and stays within the heights the network was trained on. The best try
+/// is returned, feasible first, then lowest objective;
+/// [`SurfaceMatched::last_checked`] has its check, so a caller need not
+/// evaluate it again.
 #[derive(Clone)]
 pub struct SurfaceMatched<P> {
     inner: P,
