@@ -10,7 +10,7 @@ use crate::error::Error;
 use crate::kinematics::forward;
 use crate::network::Network;
 use crate::query::{DigQuery, QueryRanges};
-use crate::repair::{Assessment, RepairSettings, assess, refine, rescale, stretch_needed};
+use crate::repair::{Assessment, RepairSettings, assess, refine, stretched};
 use crate::terrain::{CarveBuffer, Terrain};
 use crate::trajectory::DigParams;
 
@@ -239,12 +239,10 @@ impl<P> SurfaceMatched<P> {
             assessment: a,
             stretched: false,
         };
-        let t_max = self.cfg.objective.duration[1];
-        let k = (stretch_needed(&self.cfg, &a.report) * 1.002).min(t_max / y.duration);
-        if a.feasible || k.is_nan() || k <= 1.0 + 1e-3 {
-            return Ok(as_is);
-        }
-        let z = rescale(&y, k);
+        let z = match stretched(&self.cfg, &y, &a.report) {
+            Some(z) if !a.feasible => z,
+            _ => return Ok(as_is),
+        };
         let b = assess(&self.cfg, task, &z, ground, &mut self.scratch, None)?;
         let better = (b.feasible, -b.report.objective) > (a.feasible, -a.report.objective);
         Ok(if better {

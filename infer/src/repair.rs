@@ -217,6 +217,22 @@ pub fn stretch_needed(cfg: &Config, report: &DigReport) -> f64 {
     k.max(report.peak_power / m.max_power)
 }
 
+/// `params` with its duration stretched by [`stretch_needed`] (and a small
+/// margin), kept within [t_min, t_max]; `None` when that changes nothing.
+pub fn stretched(cfg: &Config, params: &DigParams, report: &DigReport) -> Option<DigParams> {
+    let [t_min, t_max] = cfg.objective.duration;
+    let k = stretch_needed(cfg, report);
+    let mut k = if k > 1.0 { k * 1.002 } else { 1.0 };
+    let t = params.duration;
+    if t * k > t_max {
+        k = t_max / t;
+    }
+    if t * k < t_min {
+        k = t_min / t;
+    }
+    ((k - 1.0).abs() >= 1e-9).then(|| rescale(params, k))
+}
+
 /// Budgets and weights of the repair.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -326,23 +342,12 @@ pub fn repair(
     }
     let mut evaluations = 1;
     let mut seed = *predicted;
-    let [t_min, t_max] = cfg.objective.duration;
     // Duration rescaling: the cheapest repair, tried when it can help.
     let mut current = first;
     for _ in 0..3 {
-        let k = stretch_needed(cfg, &current.report);
-        let mut k = if k > 1.0 { k * 1.002 } else { 1.0 };
-        let t = seed.duration;
-        if t * k > t_max {
-            k = t_max / t;
-        }
-        if t * k < t_min {
-            k = t_min / t;
-        }
-        if (k - 1.0).abs() < 1e-9 {
+        let Some(candidate) = stretched(cfg, &seed, &current.report) else {
             break;
-        }
-        let candidate = rescale(&seed, k);
+        };
         let a = assess(cfg, task, &candidate, ground, scratch, guard)?;
         evaluations += 1;
         if a.violation > current.violation {
