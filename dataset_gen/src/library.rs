@@ -14,7 +14,8 @@ use crate::error::Error;
 use crate::rng::{derive_seed, rng_from_seed, uniform_in};
 use crate::sequence::{SequenceSettings, carry_over, optimise_task, plan_value, refit_task};
 use infer::plan::Plan;
-use infer::{DesignProfile, Planner, TrenchTask};
+use infer::template::TemplateFile;
+use infer::{DesignProfile, Planner, Template, TrenchTask};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -268,6 +269,32 @@ impl Library {
             plans,
             ranges: settings.ranges,
         })
+    }
+
+    /// Its plans as templates for infer's template planner
+    /// ([`infer::template`]), in file order; an error names a plan that
+    /// cannot be one.
+    pub fn templates(&self, planner: &Planner) -> Result<TemplateFile, Error> {
+        let templates = self
+            .plans
+            .iter()
+            .map(|(path, plan)| {
+                Template::from_plan(planner, plan)
+                    .map_err(|e| Error::BadArgument(format!("{}: {e}", path.display())))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(TemplateFile::new(templates))
+    }
+
+    /// [`Self::templates`] written to `out` (its folder made if need be);
+    /// returns how many.
+    pub fn write_templates(&self, planner: &Planner, out: &Path) -> Result<usize, Error> {
+        let file = self.templates(planner)?;
+        if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+        }
+        std::fs::write(out, file.to_json()).map_err(|e| Error::io(out, e))?;
+        Ok(file.templates.len())
     }
 
     /// The `k` plans whose tasks are nearest `task` (ties: file order).

@@ -15,26 +15,23 @@
 //! [`infer::plan::Plan`], so `plan --verify` replays it.
 
 use crate::algorithms::AnyAlgorithm;
-use crate::dig_problem::{DigBounds, DigProblem};
 use crate::error::Error;
 use crate::problem::{Individual, Problem, compare_single};
 use crate::rng::{derive_seed, rng_from_seed};
 use crate::runner::{Budget, Runner};
-use infer::math::deg;
 use infer::plan::{DigRecord, Plan};
-use infer::repair::{Assessment, DesignGuard, assess};
+use infer::repair::{Assessment, DesignGuard};
+use infer::template::{DIG_VARS, DigVars, SequenceDig, UNEVALUABLE, dig_box, play_dig};
 use infer::{
-    Config, DesignProfile, DigQuery, DigType, Ground, Outcome, PlannedDig, Planner, Pose,
-    ProfileMetrics, Terrain, TrenchTask,
+    Config, DesignProfile, DigQuery, Outcome, PlannedDig, Planner, ProfileMetrics, Template,
+    Terrain, TrenchTask,
 };
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-/// Variables per dig: type, start x, chord, end lift, start ζ, end ζ, b1–b3, T.
-const PER_DIG: usize = 10;
-/// Violation given to a dig whose poses are out of reach or that the model
-/// cannot evaluate (the single-dig problem's value).
-const UNREACHABLE: f64 = crate::dig_problem::EVAL_ERROR_VIOLATION;
+/// Variables per dig ([`infer::template::DIG_VARS`]): type, start x, chord,
+/// end lift, start ζ, end ζ, b1–b3, T.
+const PER_DIG: usize = DIG_VARS;
 
 /// Budget and size of a whole-task optimisation.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -90,14 +87,6 @@ struct SequenceProblem<'a> {
     bar: Option<&'a indicatif::ProgressBar>,
 }
 
-/// One dig decoded from its variables.
-struct Decoded {
-    kind: DigType,
-    start: Pose,
-    end: Pose,
-    params: infer::DigParams,
-}
-
 impl<'a> SequenceProblem<'a> {
     fn new(
         planner: &Planner,
@@ -107,7 +96,7 @@ impl<'a> SequenceProblem<'a> {
         weight_objective: f64,
         bar: Option<&'a indicatif::ProgressBar>,
     ) -> Self {
-        let (lo, hi) = bounds(design, digs);
+        let (lo, hi) = bounds(planner.config(), design, digs);
         SequenceProblem {
             cfg: *planner.config(),
             design: *design,
@@ -123,71 +112,26 @@ impl<'a> SequenceProblem<'a> {
         }
     }
 
-    fn decode(&self, v: &[f64], terrain: &Terrain) -> Option<Decoded> {
-        let kind = if v[0] < 0.5 {
-            DigType::Downward
-        } else {
-            DigType::Backward
-        };
-        let (sx, ex) = (v[1], v[1] - v[2]);
-        let start = Pose {
-            x: sx,
-            y: terrain.height_at(sx)?,
-            zeta: v[4],
-        };
-        let end = Pose {
-            x: ex,
-            y: terrain.height_at(ex)? + v[3],
-            zeta: v[5],
-        };
-        Some(Decoded {
-            kind,
-            start,
-            end,
-            params: DigProblem::to_params(&v[6..10]),
-        })
-    }
-
     /// Plays the digs of `x` from the start surface; `on_dig` sees each
     /// evaluated dig and the surface after it. Returns (profile error +
     /// weighted objective, total violation).
     fn play(
         &mut self,
         x: &[f64],
-        mut on_dig: impl FnMut(&Decoded, &DigQuery, &Assessment, &Terrain),
+        mut on_dig: impl FnMut(&SequenceDig, &DigQuery, &Assessment, &Terrain),
     ) -> (f64, f64) {
         self.terrain.clone_from(self.start);
         let (mut violation, mut objective) = (0.0, 0.0);
         for v in x.chunks_exact(PER_DIG) {
-            let Some(dig) = self.decode(v, &self.terrain) else {
-                violation += UNREACHABLE;
-                continue;
-            };
-            let Ok(query) =
-                DigQuery::from_poses(&self.cfg, &dig.start, &dig.end, dig.start.y, dig.kind)
-            else {
-                violation += UNREACHABLE;
-                continue;
-            };
-            let ground = Ground {
-                terrain: &self.terrain,
-                base_x: 0.0,
-            };
-            match assess(
-                &self.cfg,
-                &query.task(),
-                &dig.params,
-                ground,
-                &mut self.carve,
-                Some(&self.guard),
-            ) {
-                Ok(a) => {
+            let v: &DigVars = v.try_into().expect("chunks of PER_DIG");
+            match play_dig(&self.cfg, &self.guard, v, &self.terrain, &mut self.carve) {
+                Some((dig, query, a)) => {
                     violation += a.violation;
                     objective += a.report.objective;
                     self.terrain.commit(&self.carve);
                     on_dig(&dig, &query, &a, &self.terrain);
                 }
-                Err(_) => violation += UNREACHABLE,
+                None => violation += UNEVALUABLE,
             }
         }
         let m = self.design.compare(&self.terrain);
@@ -346,37 +290,11 @@ pub fn plan_value(plan: &Plan, weight_objective: f64) -> f64 {
     value(&plan.metrics, objective / n, weight_objective)
 }
 
-/// The variables' box for `digs` digs on `design`: the start from 2 cm
-/// before the near edge to 3 cm past the far edge; chords of 5–55 cm; the
-/// end 5 cm below to 8 cm above the surface; ζ −120° to −40° at the start
-/// (teeth into the material) and 120° to 190° at the end (curled); bends
-/// and T as for single digs.
-fn bounds(design: &DesignProfile, digs: usize) -> (Vec<f64>, Vec<f64>) {
-    let b = DigBounds::default();
-    let (mut lo, mut hi) = (Vec::new(), Vec::new());
-    for _ in 0..digs {
-        lo.extend([
-            0.0,
-            design.near_edge - 0.02,
-            0.05,
-            -0.05,
-            deg(-120.0),
-            deg(120.0),
-        ]);
-        hi.extend([
-            1.0,
-            design.far_edge + 0.03,
-            0.55,
-            0.08,
-            deg(-40.0),
-            deg(190.0),
-        ]);
-        lo.extend(b.bend_max.map(|m| -m));
-        hi.extend(b.bend_max);
-        lo.push(b.duration[0]);
-        hi.push(b.duration[1]);
-    }
-    (lo, hi)
+/// The variables' box for `digs` digs on `design` (each dig's is
+/// [`infer::template::dig_box`]).
+fn bounds(cfg: &Config, design: &DesignProfile, digs: usize) -> (Vec<f64>, Vec<f64>) {
+    let (lo, hi) = dig_box(cfg, design);
+    (lo.repeat(digs), hi.repeat(digs))
 }
 
 /// The plan the digs of `x` make, replayed on `p` from its start surface.
@@ -418,56 +336,19 @@ fn to_plan(
     }
 }
 
-/// The sequence variables of `plan`'s digs carried over to `design`: start
-/// x and chord stretched with the design from edge to edge; type, end
-/// lift, bucket attitudes, bends and T kept. A plan whose digs all start
-/// on the surface the digs before them left (as sequence PSO's do) gives
-/// back its own variables on its own design.
+/// The sequence variables of `plan`'s digs carried over to `design`
+/// ([`Template::from_plan`], then [`Template::carried_to`]). A plan whose
+/// digs all start on the surface the digs before them left (as sequence
+/// PSO's do) gives back its own variables on its own design.
 pub fn carry_over(
     planner: &Planner,
     plan: &Plan,
     design: &DesignProfile,
 ) -> Result<Vec<f64>, Error> {
-    let from = &plan.design;
-    let kx = (design.far_edge - design.near_edge) / (from.far_edge - from.near_edge);
-    let mut terrain = planner.initial_terrain(from)?;
-    let mut carve = infer::terrain::CarveBuffer::default();
-    let mut x = Vec::with_capacity(plan.digs.len() * PER_DIG);
-    for r in &plan.digs {
-        let d = &r.dig;
-        let lift = terrain
-            .height_at(d.end.x)
-            .map(|h| d.end.y - h)
-            .ok_or_else(|| Error::BadArgument(format!("dig {}: off the terrain", d.index + 1)))?;
-        let kind = match d.kind {
-            DigType::Downward => 0.25,
-            DigType::Backward => 0.75,
-        };
-        x.extend([
-            kind,
-            design.near_edge + (d.start.x - from.near_edge) * kx,
-            (d.start.x - d.end.x) * kx,
-            lift,
-            d.start.zeta,
-            d.end.zeta,
-        ]);
-        x.extend(DigProblem::from_params(&d.params));
-        // The next dig's lift is measured on the surface this one left.
-        let ground = Ground {
-            terrain: &terrain,
-            base_x: d.base_x,
-        };
-        assess(
-            planner.config(),
-            &d.query.task(),
-            &d.params,
-            ground,
-            &mut carve,
-            None,
-        )?;
-        terrain.commit(&carve);
-    }
-    Ok(x)
+    let t = Template::from_plan(planner, plan)
+        .map_err(|e| Error::BadArgument(format!("not a template plan: {e}")))?;
+    let carried = t.carried_to(planner.config(), design);
+    Ok(carried[..t.digs().len()].concat())
 }
 
 /// A plan for `task` from the sequence `init` (e.g. [`carry_over`] of

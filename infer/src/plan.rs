@@ -7,6 +7,7 @@
 use crate::kinematics::LinkFrames;
 use crate::planner::{PlanError, PlannedDig, Planner};
 use crate::predictor::DigPredictor;
+use crate::template::{Template, TemplateSettings, TemplateWork};
 use crate::terrain::Terrain;
 use crate::trajectory::Trajectory;
 use crate::trench::{DesignProfile, ProfileMetrics, TrenchTask};
@@ -137,6 +138,36 @@ impl Planner {
             design,
             metrics: state.metrics(),
             stopped: state.stopped().map(|e| e.to_string()),
+            digs,
+            planning_seconds: clock.elapsed().as_secs_f64(),
+        })
+    }
+}
+
+impl Planner {
+    /// Plans a whole task from the nearest of `templates`
+    /// ([`crate::template`]): every dig feasible within the design guard,
+    /// or an error naming the first dig that is not.
+    pub fn plan_from_templates(
+        &self,
+        task: &TrenchTask,
+        templates: &[Template],
+        settings: &TemplateSettings,
+    ) -> Result<Plan, PlanError> {
+        let clock = std::time::Instant::now();
+        let mut work = Box::new(TemplateWork::new(self)?);
+        work.plan(self, task, templates, settings)?;
+        let design = *work.design();
+        let mut digs = Vec::with_capacity(work.len());
+        for i in 0..work.len() {
+            let (dig, after) = work.dig(self, i).expect("a dig of the plan just made");
+            digs.push(DigRecord::new(self, dig, &design, after));
+        }
+        Ok(Plan {
+            task: *task,
+            design,
+            metrics: design.compare(work.final_terrain()),
+            stopped: None,
             digs,
             planning_seconds: clock.elapsed().as_secs_f64(),
         })

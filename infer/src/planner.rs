@@ -227,18 +227,33 @@ pub enum PlanError {
         dig = dig + 1
     )]
     EvaluationBound { dig: usize, bound: usize },
+    #[error("no template plan to carry over (an empty template library)")]
+    NoTemplate,
+    #[error(
+        "dig {dig} ({kind}, tip from ({:.3}, {:.3}) m to ({:.3}, {:.3}) m): no refit of the nearest templates is feasible within {evaluations} evaluations: {worst}",
+        start.x, start.y, end.x, end.y, dig = dig + 1
+    )]
+    Template {
+        dig: usize,
+        kind: DigType,
+        start: Pose,
+        end: Pose,
+        worst: Violation,
+        evaluations: usize,
+    },
 }
 
 impl PlanError {
     /// The 0-based dig the error came at, if it came at a dig.
     pub fn dig(&self) -> Option<usize> {
         match self {
-            PlanError::Task(_) | PlanError::Model(_) => None,
+            PlanError::Task(_) | PlanError::Model(_) | PlanError::NoTemplate => None,
             PlanError::Predictor { dig, .. }
             | PlanError::Dig { dig, .. }
             | PlanError::TooLittleMaterial { dig, .. }
             | PlanError::Pose { dig, .. }
-            | PlanError::EvaluationBound { dig, .. } => Some(*dig),
+            | PlanError::EvaluationBound { dig, .. }
+            | PlanError::Template { dig, .. } => Some(*dig),
         }
     }
 
@@ -248,7 +263,8 @@ impl PlanError {
             PlanError::Dig {
                 error: RepairError::Infeasible { worst, .. },
                 ..
-            } => Some(worst),
+            }
+            | PlanError::Template { worst, .. } => Some(worst),
             _ => None,
         }
     }

@@ -44,6 +44,9 @@ pub enum Outcome {
     /// Feasible as predicted, then reshaped by the trench planner's bounded
     /// refinement to remove more of the design material.
     Fitted,
+    /// Carried over from a template plan optimised offline and refitted
+    /// with the task's other digs ([`crate::template`]).
+    Templated,
 }
 
 /// The constraint a dig must also meet inside a trench: the new cut may go

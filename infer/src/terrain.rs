@@ -137,6 +137,14 @@ impl Terrain {
         Ok(area)
     }
 
+    /// Sets the heights of the nodes from `j0` on (those that exist).
+    pub(crate) fn set_span(&mut self, j0: usize, heights: &[f64]) {
+        let j1 = (j0 + heights.len()).min(self.len);
+        if j0 < j1 {
+            self.h[j0..j1].copy_from_slice(&heights[..j1 - j0]);
+        }
+    }
+
     /// Writes back the window carved last into `scratch` (by an evaluation
     /// or [`Terrain::carve_path`]) on this same terrain.
     pub fn commit(&mut self, scratch: &CarveBuffer) {

@@ -1,5 +1,4 @@
 //! Repair, task validation, the design profile and the trench planner.
-#![allow(unsafe_code)] // the counting allocator below
 
 mod common;
 use common::{REFERENCE_Y, flat, reference_query, shipped};
@@ -10,26 +9,10 @@ use infer::{
     deg,
 };
 use proptest::prelude::*;
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 
-/// Counts heap allocations made by the current thread.
-struct Counting;
-thread_local! { static ALLOCS: Cell<usize> = const { Cell::new(0) }; }
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
-        unsafe { System.alloc(l) }
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        unsafe { System.dealloc(p, l) }
-    }
-}
-#[global_allocator]
-static GLOBAL: Counting = Counting;
-fn allocations() -> usize {
-    ALLOCS.with(|c| c.get())
-}
+#[path = "common/counting.rs"]
+mod counting;
+use counting::allocations;
 
 fn repair_ref(y: [f64; 4], budget: usize) -> Result<infer::repair::Repaired, RepairError> {
     let cfg = Config::default();

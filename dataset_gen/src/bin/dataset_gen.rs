@@ -203,6 +203,14 @@ enum Command {
         #[arg(long, default_value = "refitted_plan")]
         out: PathBuf,
     },
+    /// A library's plans as templates for infer's real-time template planner
+    /// (`plan --templates FILE`), one JSON file.
+    Templates {
+        #[arg(long, default_value = "runs/library")]
+        library: PathBuf,
+        #[arg(long, default_value = "artifacts/templates.json")]
+        out: PathBuf,
+    },
     /// Each optimiser at the source's settings vs the best with 10× iterations.
     Quality {
         #[arg(long, default_value_t = 100)]
@@ -534,6 +542,12 @@ fn main_inner() -> Result<(), Error> {
             let mut v = write_plan(&out, &plan, &format!("{title} (refitted from the library)"))?;
             v["tried"] = serde_json::Value::Array(tried);
             print(&v)
+        }
+        Command::Templates { library, out } => {
+            let planner = default_planner()?;
+            let lib = library::Library::load(&library)?;
+            let written = lib.write_templates(&planner, &out)?;
+            print(&serde_json::json!({ "out": out, "templates": written }))
         }
         Command::Quality {
             queries,

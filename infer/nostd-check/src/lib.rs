@@ -44,3 +44,22 @@ pub extern "C" fn infer_plan_task_a_digs() -> i32 {
     }
     n
 }
+
+/// Digs of task A planned from one template (its own first dig twice, a
+/// made-up plan) through the template planner, or −1 when it says it
+/// cannot; shows the template planner builds without `std`. Its work
+/// lives in a static-sized value the caller owns.
+#[unsafe(no_mangle)]
+pub extern "C" fn infer_template_task_a_digs() -> i32 {
+    let cfg = Config::default();
+    let Ok(planner) = infer::Planner::new(&cfg, &infer::PlannerSettings::default()) else { return -1 };
+    let Some(task) = infer::TrenchTask::reference('A') else { return -1 };
+    let dig = [0.25, 1.04, 0.3, 0.05, infer::deg(-90.0), infer::deg(160.0), 0.0, 0.0, 0.0, 7.0];
+    let Ok(template) = infer::Template::new(task, &[dig, dig]) else { return -1 };
+    let Ok(mut work) = infer::TemplateWork::new(&planner) else { return -1 };
+    let settings = infer::TemplateSettings { max_evaluations: 100, ..Default::default() };
+    match work.plan(&planner, &task, &[template], &settings) {
+        Ok(()) => work.len() as i32,
+        Err(_) => -1,
+    }
+}

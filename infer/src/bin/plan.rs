@@ -8,6 +8,7 @@ use clap::Parser;
 use infer::cli::TaskArgs;
 use infer::network::NetworkFile;
 use infer::plan::{Plan, svg};
+use infer::template::{TemplateFile, TemplateSettings};
 use infer::{Config, DigPredictor, NetworkPair, Planner, PlannerSettings, RefinePredictor};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -26,6 +27,14 @@ struct Args {
     /// Ignore the networks and predict each dig by a local refinement (slow; for use before training).
     #[arg(long)]
     refine: bool,
+    /// Plan from this template library (`dataset_gen templates`; e.g.
+    /// artifacts/templates.json) instead of the networks: the nearest
+    /// offline-optimised plans carried over to the task and refitted.
+    #[arg(long, conflicts_with = "refine")]
+    templates: Option<PathBuf>,
+    /// Template planner settings as JSON (any field left out keeps its default).
+    #[arg(long, requires = "templates")]
+    template_settings: Option<PathBuf>,
     /// Output file stem: writes STEM.json and STEM.svg.
     #[arg(long, short = 'o', default_value = "plan")]
     out: PathBuf,
@@ -39,7 +48,7 @@ struct Args {
     /// instead of planning: every dig in order must be feasible, within the
     /// design guard, and give the recorded figures and surfaces. Exit code
     /// 0 if it does, 1 if it does not, 2 for unreadable input.
-    #[arg(long, conflicts_with_all = ["task", "task_file", "length", "refine"])]
+    #[arg(long, conflicts_with_all = ["task", "task_file", "length", "refine", "templates"])]
     verify: Option<PathBuf>,
 }
 
@@ -114,7 +123,13 @@ fn run(args: Args) -> Result<(), String> {
     let settings: PlannerSettings = common::json_or_default(args.settings.as_deref())?;
     let planner = Planner::new(&cfg, &settings).map_err(|e| e.to_string())?;
     planner.digs_for(&task).map_err(|e| e.to_string())?;
-    let plan: Plan = if args.refine {
+    let plan: Plan = if let Some(path) = &args.templates {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let file =
+            TemplateFile::from_json(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+        let ts: TemplateSettings = common::json_or_default(args.template_settings.as_deref())?;
+        planner.plan_from_templates(&task, &file.templates, &ts)
+    } else if args.refine {
         let mut p = RefinePredictor::new(&cfg, 400).map_err(|e| e.to_string())?;
         planner.plan(&task, &mut p as &mut dyn DigPredictor)
     } else {
