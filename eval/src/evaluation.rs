@@ -11,11 +11,10 @@ use crate::planning::{PlanRun, run_plan};
 use crate::summary::{Summary, summarise};
 use crate::tasks::{NamedTask, RandomRanges, task_set};
 use crate::whole::{
-    LibraryRefit, PlanSummary, WholeTaskRow, optimise_sequences, plan_with_optimiser,
-    refit_from_library,
+    PlanSummary, TemplatePlanning, WholeTaskRow, optimise_sequences, plan_from_templates,
+    plan_with_optimiser,
 };
 use dataset_gen::batch::progress_bar;
-use dataset_gen::library::Library;
 use dataset_gen::sequence::SequenceSettings;
 use infer::plan::Plan;
 use infer::{Config, Planner, PlannerSettings, SurfaceMatched, TrenchTask};
@@ -67,10 +66,10 @@ pub struct EvalSettings {
     pub sequence: Coverage,
     #[serde(default)]
     pub sequence_search: SequenceSettings,
-    /// The plan library every task of the whole-task comparison is also
-    /// planned from (its nearest plans refitted); `None`: not run.
+    /// The templates every task of the whole-task comparison is also
+    /// planned from (infer's template planner); `None`: not run.
     #[serde(default)]
-    pub library: Option<LibraryRefit>,
+    pub templates: Option<TemplatePlanning>,
     /// The planner's settings, for the network and the optimiser in the loop alike.
     #[serde(default)]
     pub planner: PlannerSettings,
@@ -106,7 +105,7 @@ impl Default for EvalSettings {
             in_loop: Baseline::pso(),
             sequence: Coverage::Reference,
             sequence_search: SequenceSettings::default(),
-            library: Some(LibraryRefit::default()),
+            templates: Some(TemplatePlanning::default()),
             planner: PlannerSettings::default(),
             alone_tries: alone_tries(),
         }
@@ -153,10 +152,10 @@ impl EvalSettings {
         if self.sequence != Coverage::Skip && self.sequence_search != SequenceSettings::default() {
             out.push("sequence PSO budget differs from the default".into());
         }
-        match &self.library {
-            None => out.push("no plan library".into()),
-            Some(l) if *l != LibraryRefit::default() => {
-                out.push("plan library refit differs from the default".into())
+        match &self.templates {
+            None => out.push("no template planner".into()),
+            Some(t) if *t != TemplatePlanning::default() => {
+                out.push("template planner settings differ from the defaults".into())
             }
             Some(_) => {}
         }
@@ -213,14 +212,14 @@ pub struct EvalReport {
 }
 
 /// A task's plans: with the network, with the optimiser in the loop, by
-/// sequence PSO and from the plan library, each when planned.
+/// sequence PSO and from templates, each when planned.
 #[derive(Debug, Clone)]
 pub struct TaskPlans {
     pub name: String,
     pub network: Plan,
     pub in_loop: Option<Plan>,
     pub sequence: Option<Plan>,
-    pub library: Option<Plan>,
+    pub templates: Option<Plan>,
 }
 
 /// The 1-minute load average (0 where /proc/loadavg is not readable).
@@ -315,13 +314,13 @@ pub fn evaluate(
     let sequences = optimise_sequences(&planner, &by_sequence, s, settings.seed, &bar);
     bar.finish_and_clear();
 
-    // The library is read before the clock of its first refit starts.
-    let from_library = match &settings.library {
-        Some(refit) if !in_loop.is_empty() => {
-            let library = Library::load(&refit.dir)?;
+    // The templates are read before the clock of the first plan starts.
+    let from_templates = match &settings.templates {
+        Some(t) if !in_loop.is_empty() => {
+            let templates = t.load().map_err(EvalError::BadArgument)?;
             let bar = progress_bar(in_loop.len() as u64, "tasks", show_progress);
-            bar.set_message("plan library");
-            let plans = refit_from_library(&planner, &library, &in_loop, refit, &bar)?;
+            bar.set_message("templates");
+            let plans = plan_from_templates(&planner, &templates, &in_loop, &t.settings, &bar);
             bar.finish_and_clear();
             Some(plans)
         }
@@ -341,7 +340,7 @@ pub fn evaluate(
             .iter()
             .position(|x| x.name == t.name)
             .map(|i| &sequences[i]);
-        let library = from_library.as_ref().and_then(|plans| {
+        let templates = from_templates.as_ref().and_then(|plans| {
             in_loop
                 .iter()
                 .position(|x| x.name == t.name)
@@ -358,7 +357,7 @@ pub fn evaluate(
                         .map(|p| PlanSummary::of_plan(p, None))
                         .map_err(Clone::clone)
                 }),
-                library: library.map(|r| {
+                templates: templates.map(|r| {
                     r.as_ref()
                         .map(|p| PlanSummary::of_plan(p, None))
                         .map_err(Clone::clone)
@@ -370,7 +369,7 @@ pub fn evaluate(
             network: run.plan.clone(),
             in_loop: optimiser.map(|(o, _)| o.plan.clone()),
             sequence: sequence.and_then(|r| r.as_ref().ok().cloned()),
-            library: library.and_then(|r| r.as_ref().ok().cloned()),
+            templates: templates.and_then(|r| r.as_ref().ok().cloned()),
         });
         reports.push(TaskReport {
             name: t.name.clone(),

@@ -193,7 +193,7 @@ pub fn dig_time(path: &Path, report: &EvalReport) -> Result<(), EvalError> {
 /// The plans as `infer` draws them: `<dir>/<task>.svg|json` (network),
 /// `<dir>/<task>_pso.svg|json` (optimiser in the loop),
 /// `<dir>/<task>_sequence.svg|json` (sequence PSO) and
-/// `<dir>/<task>_library.svg|json` (from the plan library).
+/// `<dir>/<task>_templates.svg|json` (from templates).
 pub fn plans(dir: &Path, report: &EvalReport) -> Result<(), EvalError> {
     for p in &report.plans {
         let (name, net, opt) = (&p.name, &p.network, &p.in_loop);
@@ -230,7 +230,7 @@ pub fn plans(dir: &Path, report: &EvalReport) -> Result<(), EvalError> {
         }
         for (suffix, label, plan) in [
             ("sequence", "sequence PSO", &p.sequence),
-            ("library", "from the plan library", &p.library),
+            ("templates", "from templates", &p.templates),
         ] {
             if let Some(q) = plan {
                 write_file(

@@ -5,6 +5,7 @@
 use crate::baselines::method_label;
 use crate::digs::DigRow;
 use crate::evaluation::EvalReport;
+use crate::summary::PROFILE_GOAL;
 use crate::whole::{PlanSummary, WholeTaskRow};
 use std::fmt::Write as _;
 
@@ -338,16 +339,17 @@ pub fn whole_csv(report: &EvalReport) -> String {
         "fitted",
         "rescaled",
         "refined",
+        "templated",
         "predictor_calls",
     ];
     let rows = report.whole.iter().flat_map(|w| {
         let sequence = w.sequence.as_ref().and_then(|r| r.as_ref().ok());
-        let library = w.library.as_ref().and_then(|r| r.as_ref().ok());
+        let templates = w.templates.as_ref().and_then(|r| r.as_ref().ok());
         [
             ("network", Some(&w.network), None),
             ("pso_in_loop", Some(&w.optimiser), Some(w.optimiser_calls)),
             ("pso_sequence", sequence, None),
-            ("library", library, None),
+            ("templates", templates, None),
         ]
         .into_iter()
         .filter_map(|(who, s, calls)| s.map(|s| (who, s, calls)))
@@ -372,6 +374,7 @@ pub fn whole_csv(report: &EvalReport) -> String {
                 s.fitted.to_string(),
                 s.rescaled.to_string(),
                 s.refined.to_string(),
+                s.templated.to_string(),
                 calls.map_or(String::new(), |c| c.to_string()),
             ]
         })
@@ -682,25 +685,26 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
             );
             whole_plans_table(&mut out, report, |w| w.sequence.as_ref());
         }
-        if let Some(l) = report
+        if let Some(t) = report
             .settings
-            .library
+            .templates
             .as_ref()
-            .filter(|_| report.whole.iter().any(|w| w.library.is_some()))
+            .filter(|_| report.whole.iter().any(|w| w.templates.is_some()))
         {
+            let s = &t.settings;
             let _ = writeln!(
                 out,
-                "\n## Whole tasks: from the plan library\n\nThe {} library plans (sequence PSO on random trenches, `{}`) whose tasks are nearest each task, carried over to its design (start x and chord stretched from edge to edge) and refitted by a compass search of {} sequence evaluations each; the best kept. Planning time: the whole refit, wall clock, on both cores.\n",
-                l.neighbours,
-                l.dir.display(),
-                l.budget
+                "\n## Whole tasks: from templates (infer's template planner)\n\nThe {} templates (sequence-PSO plans of random trenches, `{}`) whose tasks are nearest each task, carried over to its design (start x and chord stretched from edge to edge), each refitted for a share of the budget and the best refitted further by a compass search: at most {} exact dig evaluations per task in all. Planning time: one core, one task after the other.\n",
+                s.neighbours,
+                t.file.display(),
+                s.max_evaluations
             );
-            whole_plans_table(&mut out, report, |w| w.library.as_ref());
+            whole_plans_table(&mut out, report, |w| w.templates.as_ref());
         }
     }
     let _ = writeln!(
         out,
-        "\n## Files\n\n`report.json` (everything), `digs.csv` (every dig, every method), `tasks.csv`, `table4.csv`, `whole.csv`, `objective_gap.svg` (per-dig objective of the network relative to each optimiser), `dig_time.svg` (planning time per dig, log scale), `plans/<task>.svg|json` (the network's plans), `plans/<task>_pso.svg|json` (PSO in the loop), `plans/<task>_sequence.svg|json` (sequence PSO) and `plans/<task>_library.svg|json` (from the plan library)."
+        "\n## Files\n\n`report.json` (everything), `digs.csv` (every dig, every method), `tasks.csv`, `table4.csv`, `whole.csv`, `objective_gap.svg` (per-dig objective of the network relative to each optimiser), `dig_time.svg` (planning time per dig, log scale), `plans/<task>.svg|json` (the network's plans), `plans/<task>_pso.svg|json` (PSO in the loop), `plans/<task>_sequence.svg|json` (sequence PSO) and `plans/<task>_templates.svg|json` (from templates)."
     );
     out
 }
@@ -738,6 +742,31 @@ fn whole_plans_table(
                 let _ = writeln!(out, "| {} | no plan: {e} | | | | | | | |", w.task);
             }
         }
+    }
+    let plans: Vec<&PlanSummary> = report
+        .whole
+        .iter()
+        .filter_map(|w| pick(w).and_then(|r| r.as_ref().ok()))
+        .collect();
+    let tried = report.whole.iter().filter(|w| pick(w).is_some()).count();
+    if !plans.is_empty() {
+        let n = plans.len() as f64;
+        let mean = |f: fn(&PlanSummary) -> f64| plans.iter().map(|p| f(p)).sum::<f64>() / n;
+        let within = plans
+            .iter()
+            .filter(|p| p.under_dug <= PROFILE_GOAL && p.over_dug <= PROFILE_GOAL)
+            .count();
+        let _ = writeln!(
+            out,
+            "\n{} of {} tasks planned; mean under-dug {}, over-dug {}; {} within {} on both; mean planning time {}.",
+            plans.len(),
+            tried,
+            pct(mean(|p| p.under_dug)),
+            pct(mean(|p| p.over_dug)),
+            within,
+            pct(PROFILE_GOAL),
+            seconds(mean(|p| p.planning_seconds))
+        );
     }
 }
 

@@ -7,12 +7,12 @@ use crate::baselines::Baseline;
 use crate::digs::name_key;
 use crate::planning::{PlanFailure, PlanRun, run_plan};
 use crate::tasks::NamedTask;
-use dataset_gen::library::{self, Library};
 use dataset_gen::predictor::OptimiserPredictor;
 use dataset_gen::rng::derive_seed;
 use dataset_gen::sequence::{SequenceSettings, optimise_task};
 use infer::plan::Plan;
-use infer::{Config, Outcome, Planner};
+use infer::template::{TemplateFile, TemplateSettings};
+use infer::{Config, Outcome, Planner, Template};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -44,6 +44,9 @@ pub struct PlanSummary {
     pub refined: usize,
     /// Digs feasible as predicted and then reshaped towards the design.
     pub fitted: usize,
+    /// Digs carried over from a template and refitted.
+    #[serde(default)]
+    pub templated: usize,
     /// Digs returned that break a constraint (should be 0).
     pub infeasible: usize,
 }
@@ -79,6 +82,7 @@ impl PlanSummary {
             rescaled: count(Outcome::Rescaled),
             refined: count(Outcome::Refined),
             fitted: count(Outcome::Fitted),
+            templated: count(Outcome::Templated),
             infeasible: digs.iter().filter(|d| !d.report.feasible).count(),
         }
     }
@@ -97,71 +101,62 @@ pub struct WholeTaskRow {
     /// profile), when run: its plan, or why it found none.
     #[serde(default)]
     pub sequence: Option<Result<PlanSummary, String>>,
-    /// Planned from the plan library (its nearest plans refitted), when
-    /// run: the best refit, or why none was feasible.
+    /// Planned from templates ([`infer::template`]), when run: the plan,
+    /// or why the template planner made none.
     #[serde(default)]
-    pub library: Option<Result<PlanSummary, String>>,
+    pub templates: Option<Result<PlanSummary, String>>,
 }
 
-/// The plan library a whole-task comparison refits from
-/// ([`dataset_gen::library`]) and the refit's budget.
+/// The templates a whole-task comparison also plans every task from
+/// ([`infer::template`]: offline-optimised plans carried over and refitted
+/// within a bound) and the template planner's settings.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
-pub struct LibraryRefit {
-    /// The library's folder (`dataset_gen library` writes one; the shipped
-    /// one is `artifacts/library`).
-    pub dir: std::path::PathBuf,
-    /// Library plans refitted per task (the nearest tasks').
-    pub neighbours: usize,
-    /// Sequence evaluations of each refit.
-    pub budget: usize,
+pub struct TemplatePlanning {
+    /// The template file (`dataset_gen templates` writes one; the shipped
+    /// one is `artifacts/templates.json`, from `artifacts/library`).
+    pub file: std::path::PathBuf,
+    pub settings: TemplateSettings,
 }
 
-impl Default for LibraryRefit {
+impl Default for TemplatePlanning {
     fn default() -> Self {
-        LibraryRefit {
-            dir: "artifacts/library".into(),
-            neighbours: 8,
-            budget: 5000,
+        TemplatePlanning {
+            file: "artifacts/templates.json".into(),
+            settings: TemplateSettings::default(),
         }
     }
 }
 
-/// Each task planned from `library`, one task after the other (each
-/// refits its neighbours in parallel); the best refit's plan (its planning
-/// time that of the whole refit), or why none was feasible. Deterministic,
-/// timings aside, whatever the threads.
-pub fn refit_from_library(
+impl TemplatePlanning {
+    /// Reads the template file.
+    pub fn load(&self) -> Result<Vec<Template>, String> {
+        let f = &self.file;
+        let text = std::fs::read_to_string(f).map_err(|e| format!("{}: {e}", f.display()))?;
+        TemplateFile::from_json(&text)
+            .map(|t| t.templates)
+            .map_err(|e| format!("{}: {e}", f.display()))
+    }
+}
+
+/// Each task planned from `templates`, one task after the other on one
+/// core (a controller's view of the planning time); the plan, or why the
+/// template planner could not make one.
+pub fn plan_from_templates(
     planner: &Planner,
-    library: &Library,
+    templates: &[Template],
     tasks: &[NamedTask],
-    refit: &LibraryRefit,
+    settings: &TemplateSettings,
     bar: &indicatif::ProgressBar,
-) -> Result<Vec<Result<Plan, String>>, dataset_gen::Error> {
-    let settings = SequenceSettings {
-        polish: refit.budget,
-        ..SequenceSettings::default()
-    };
+) -> Vec<Result<Plan, String>> {
     tasks
         .iter()
         .map(|t| {
-            let (refits, best) = library::refit_from_library(
-                planner,
-                library,
-                &t.task,
-                refit.neighbours,
-                &settings,
-            )?;
+            let plan = planner
+                .plan_from_templates(&t.task, templates, settings)
+                .map_err(|e| e.to_string());
             bar.inc(1);
-            Ok(best
-                .and_then(|i| refits.into_iter().nth(i))
-                .and_then(|r| r.result.ok())
-                .ok_or_else(|| {
-                    format!(
-                        "no refit of the {} nearest library plans is feasible",
-                        refit.neighbours
-                    )
-                }))
+            plan
         })
         .collect()
 }

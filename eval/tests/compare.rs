@@ -7,7 +7,7 @@ use eval::digs::{DigRow, compare_digs};
 use eval::evaluation::{Coverage, EvalSettings, evaluate};
 use eval::networks::Networks;
 use eval::planning::{PlanRun, run_plan};
-use eval::whole::{LibraryRefit, PlanSummary, plan_with_optimiser};
+use eval::whole::{PlanSummary, TemplatePlanning, plan_with_optimiser};
 use eval::{output, tasks};
 use indicatif::ProgressBar;
 use infer::{
@@ -265,17 +265,20 @@ fn small_evaluation_writes_every_report_file() {
             polish: 20,
             ..SequenceSettings::default()
         },
-        library: Some(LibraryRefit {
-            dir: Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/library"),
-            neighbours: 2,
-            budget: 20,
+        templates: Some(TemplatePlanning {
+            file: Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/templates.json"),
+            settings: infer::TemplateSettings {
+                neighbours: 2,
+                max_evaluations: 150,
+                ..Default::default()
+            },
         }),
         ..EvalSettings::default()
     };
     let report = evaluate(&Config::default(), &networks(), &settings, false).unwrap();
     assert_eq!(report.whole.len(), 4);
     assert!(report.whole.iter().all(|w| w.sequence.is_some()));
-    assert!(report.whole.iter().all(|w| w.library.is_some()));
+    assert!(report.whole.iter().all(|w| w.templates.is_some()));
     assert_eq!(report.tasks.len(), 5);
     assert_eq!(report.tasks[4].name, "R01");
     assert!(!report.tasks[4].dig_by_dig);
@@ -339,10 +342,13 @@ fn small_evaluation_writes_every_report_file() {
             Err(e) => assert!(md.contains(&format!("| {} | no plan: {e}", w.task))),
         }
     }
-    assert!(md.contains("## Whole tasks: from the plan library"));
+    assert!(md.contains("## Whole tasks: from templates"));
     for w in &report.whole {
-        match w.library.as_ref().unwrap() {
-            Ok(_) => assert!(dir.join(format!("plans/{}_library.json", w.task)).is_file()),
+        match w.templates.as_ref().unwrap() {
+            Ok(_) => assert!(
+                dir.join(format!("plans/{}_templates.json", w.task))
+                    .is_file()
+            ),
             Err(e) => assert!(md.contains(&format!("| {} | no plan: {e}", w.task))),
         }
     }

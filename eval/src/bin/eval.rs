@@ -6,7 +6,7 @@ use eval::baselines::Baseline;
 use eval::evaluation::{Coverage, EvalSettings, evaluate};
 use eval::networks::Networks;
 use eval::pipeline::{self, PipelineSettings};
-use eval::whole::LibraryRefit;
+use eval::whole::TemplatePlanning;
 use eval::{EvalError, benchmarks, output, tables};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -49,10 +49,10 @@ struct EvalArgs {
     /// Planner settings as JSON (`infer::PlannerSettings`; any field left out keeps its default).
     #[arg(long)]
     planner: Option<PathBuf>,
-    /// The plan library every whole task is also planned from (default
-    /// artifacts/library, built by `dataset_gen library`); `none`: not run.
+    /// The templates every whole task is also planned from (default
+    /// artifacts/templates.json, written by `dataset_gen templates`); `none`: not run.
     #[arg(long)]
-    library: Option<String>,
+    templates: Option<String>,
 }
 
 impl EvalArgs {
@@ -67,13 +67,13 @@ impl EvalArgs {
         if let Some(c) = self.whole_task {
             s.whole_task = c;
         }
-        match self.library.as_deref() {
+        match self.templates.as_deref() {
             None => {}
-            Some("none") => s.library = None,
-            Some(dir) => {
-                s.library = Some(LibraryRefit {
-                    dir: dir.into(),
-                    ..LibraryRefit::default()
+            Some("none") => s.templates = None,
+            Some(file) => {
+                s.templates = Some(TemplatePlanning {
+                    file: file.into(),
+                    ..TemplatePlanning::default()
                 })
             }
         }
