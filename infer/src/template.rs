@@ -30,7 +30,7 @@ use crate::kinematics::Pose;
 use crate::math::deg;
 use crate::planner::{PlanError, PlannedDig, Planner};
 use crate::query::DigQuery;
-use crate::repair::{Assessment, DesignGuard, Outcome, assess, stretched};
+use crate::repair::{Assessment, DesignGuard, Outcome, assess};
 use crate::terrain::{CarveBuffer, Terrain};
 use crate::trajectory::DigParams;
 use crate::trench::{DesignProfile, TrenchTask};
@@ -48,8 +48,8 @@ pub const MAX_NEIGHBOURS: usize = 8;
 pub const UNEVALUABLE: f64 = 1000.0;
 
 /// The least [`TemplateSettings::max_evaluations`]: the seeds' first
-/// plays, the best one's replay, its stretches and the fallback's replay
-/// (48 + 6 + 21 + 6 at most) always fit.
+/// plays, the best one's replay and the fallback's (48 + 6 + 6 at most)
+/// always fit, and some refit.
 pub const MIN_EVALUATIONS: usize = 100;
 
 /// One dig as sequence variables.
@@ -356,9 +356,6 @@ fn initial_step(lo: &DigVars, hi: &DigVars) -> DigVars {
 struct DigScore {
     violation: f64,
     objective: f64,
-    /// T stretched to meet the speed, acceleration and power limits, for
-    /// an infeasible dig that a stretch may mend.
-    stretched: Option<f64>,
 }
 
 /// Nodes of the stretch of terrain a template plan may carve (2.56 m at
@@ -495,21 +492,16 @@ impl TemplateWork {
             let (lo, carved) = self.carve.window();
             p.score[j] = match played {
                 // A dig that carves outside the window is not kept.
-                Some((dig, _, a)) if lo >= j0 && lo + carved.len() <= j0 + w => {
+                Some((_, _, a)) if lo >= j0 && lo + carved.len() <= j0 + w => {
                     self.terrain.commit(&self.carve);
                     DigScore {
                         violation: a.violation,
                         objective: a.report.objective,
-                        stretched: (a.violation > 0.0)
-                            .then(|| stretched(cfg, &dig.params, &a.report))
-                            .flatten()
-                            .map(|p| p.duration),
                     }
                 }
                 _ => DigScore {
                     violation: UNEVALUABLE,
                     objective: 0.0,
-                    stretched: None,
                 },
             };
             p.after[j + 1][..w].copy_from_slice(&self.terrain.heights()[j0..j0 + w]);
@@ -533,7 +525,7 @@ impl TemplateWork {
     ) -> Result<(), PlanError> {
         self.planned = 0;
         settings.validate()?;
-        planner.digs_for(task)?;
+        let expected = planner.digs_for(task)?;
         if templates.is_empty() {
             return Err(PlanError::NoTemplate);
         }
@@ -567,11 +559,10 @@ impl TemplateWork {
         // ties: the nearer) is then refitted with the rest, from the steps
         // it reached; if that ends infeasible, the best feasible refit of
         // a seed is the plan.
-        let near = nearest(templates, task, settings.neighbours);
+        let near = nearest(templates, task, expected, settings.neighbours);
         let seeds = near.iter().flatten().count();
-        // What the last stage may need: the best seed's replay, its
-        // stretches and the fallback's replay.
-        let last = 2 * MAX_TEMPLATE_DIGS + MAX_TEMPLATE_DIGS * (MAX_TEMPLATE_DIGS + 1) / 2;
+        // What the last stage needs: the best seed's replay and the fallback's.
+        let last = 2 * MAX_TEMPLATE_DIGS;
         let shared = settings.seed_share * (settings.max_evaluations - last) as f64;
         let per_seed = (shared / seeds as f64) as usize;
         let mut champion: Option<(Champion, DigVars)> = None;
@@ -599,42 +590,22 @@ impl TemplateWork {
         }
         let (c, step) = champion.ok_or(PlanError::NoTemplate)?;
         self.replay(planner, &c, settings);
-        // Kept back for the stretches and the fallback's replay.
+        // Kept back for the fallback's replay.
         let n = self.best.count;
-        let reserve = n + n * (n + 1) / 2;
-        let limit = settings.max_evaluations.saturating_sub(reserve);
-        self.refit(planner, &lo, &hi, step, limit, settings);
-        self.stretch(planner, &hi, settings);
+        self.refit(
+            planner,
+            &lo,
+            &hi,
+            step,
+            settings.max_evaluations - n,
+            settings,
+        );
         if let Some(f) = fallback.filter(|_| self.best.violation > 0.0) {
             self.replay(planner, &f, settings);
         }
         self.check(planner)?;
         self.planned = self.best.count;
         Ok(())
-    }
-
-    /// Each dig of the best sequence that breaks a speed, acceleration or
-    /// power limit, in turn, stretched in time (the same path, so the same
-    /// cut; bends b_i are unchanged by the stretch), kept if that mends it.
-    fn stretch(&mut self, planner: &Planner, hi: &DigVars, settings: &TemplateSettings) {
-        let n = self.best.count;
-        for j in 0..n {
-            let Some(t) = self.best.score[j]
-                .stretched
-                .filter(|t| *t <= hi[DIG_VARS - 1])
-            else {
-                continue;
-            };
-            self.candidate.vars = self.best.vars;
-            self.candidate.vars[j][DIG_VARS - 1] = t;
-            self.candidate.score[..j].copy_from_slice(&self.best.score[..j]);
-            self.candidate.after[j] = self.best.after[j];
-            self.play(planner, j, settings.weight_objective);
-            let c = &self.candidate;
-            if c.score[j].violation == 0.0 && c.violation < self.best.violation {
-                self.accept(j);
-            }
-        }
     }
 
     /// Makes `c` the best sequence again.
@@ -812,7 +783,14 @@ fn better(violation: f64, value: f64, than_violation: f64, than_value: f64) -> b
 
 /// Indices of the `k` templates nearest `task`, nearest first (ties: the
 /// earlier). Task features are scaled by their spread over the templates.
-fn nearest(templates: &[Template], task: &TrenchTask, k: usize) -> [Option<usize>; MAX_NEIGHBOURS] {
+/// The nearest template with `digs` digs (the task's expected count) is
+/// always among them: a neighbour with fewer digs leaves material.
+fn nearest(
+    templates: &[Template],
+    task: &TrenchTask,
+    digs: usize,
+    k: usize,
+) -> [Option<usize>; MAX_NEIGHBOURS] {
     let feature = |t: &TrenchTask| [t.length, t.depth, t.slope_far, t.slope_near, t.far_edge];
     let mut lo = [f64::INFINITY; 5];
     let mut hi = [f64::NEG_INFINITY; 5];
@@ -830,14 +808,22 @@ fn nearest(templates: &[Template], task: &TrenchTask, k: usize) -> [Option<usize
     };
     let k = k.min(MAX_NEIGHBOURS);
     let mut near: [Option<(f64, usize)>; MAX_NEIGHBOURS] = [None; MAX_NEIGHBOURS];
+    let mut matched: Option<(f64, usize)> = None;
     for (i, t) in templates.iter().enumerate() {
         let d = distance(t);
+        if t.count == digs && matched.is_none_or(|(e, _)| d < e) {
+            matched = Some((d, i));
+        }
         // Kept sorted; an equal distance goes after the earlier template.
         let Some(pos) = near[..k].iter().position(|s| s.is_none_or(|(e, _)| d < e)) else {
             continue;
         };
         near[pos..k].rotate_right(1);
         near[pos] = Some((d, i));
+    }
+    // The nearest template with the task's dig count is always tried (last).
+    if let Some(m) = matched.filter(|(_, i)| !near[..k].iter().flatten().any(|(_, j)| j == i)) {
+        near[k - 1] = Some(m);
     }
     near.map(|s| s.map(|(_, i)| i))
 }
