@@ -11,10 +11,14 @@
 //!   fast, coarser planner.
 //! - `task_X_bounded`: the default settings with at most 40 exact
 //!   evaluations per dig (`max_evaluations`): a controller's deadline.
+//! - `template_task_X[_N]`: the template planner (`artifacts/templates.json`)
+//!   with the default bound of 1,200 exact evaluations per task, and with
+//!   N; the work is allocated once, as a controller would.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use infer::network::NetworkFile;
 use infer::repair::assess;
+use infer::template::{TemplateFile, TemplateSettings, TemplateWork};
 use infer::{
     CarveBuffer, Config, DigParams, DigType, Ground, NetworkPair, Planner, PlannerSettings,
     QueryRanges, RepairSettings, Terrain, TrenchTask,
@@ -97,6 +101,29 @@ fn bench(c: &mut Criterion) {
                         black_box(d);
                     }
                     black_box(state.metrics())
+                })
+            });
+        }
+    }
+
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/templates.json"),
+    )
+    .expect("the bench needs the shipped templates");
+    let templates = TemplateFile::from_json(&text).unwrap().templates;
+    let planner = Planner::new(&cfg, &PlannerSettings::default()).unwrap();
+    let mut work = Box::new(TemplateWork::new(&planner).unwrap());
+    for (suffix, max_evaluations) in [("", 1200), ("_300", 300)] {
+        let settings = TemplateSettings {
+            max_evaluations,
+            ..TemplateSettings::default()
+        };
+        for name in ['A', 'B', 'C', 'D'] {
+            let task = TrenchTask::reference(name).unwrap();
+            c.bench_function(&format!("template_task_{name}{suffix}"), |b| {
+                b.iter(|| {
+                    black_box(work.plan(&planner, black_box(&task), &templates, &settings)).ok();
+                    black_box(work.len())
                 })
             });
         }

@@ -143,3 +143,60 @@ fn verify_replays_a_plan_file() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("not a plan file"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--templates` plans from the template library; the plan verifies, a
+/// missing file is an error, and a template plan that cannot be made
+/// feasible falls back to the networks, saying so.
+#[test]
+fn templates_plan_verifies_and_falls_back_to_the_networks() {
+    let dir = std::env::temp_dir().join(format!("plan-templates-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let artifacts = concat!(env!("CARGO_MANIFEST_DIR"), "/../artifacts");
+    let templates = format!("{artifacts}/templates.json");
+    let stem = dir.join("b");
+    let stem = stem.to_str().unwrap();
+    let o = plan(&["--task", "B", "--templates", &templates, "-o", stem]);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(out.contains("templated"), "{out}");
+    let o = plan(&["--verify", &format!("{stem}.json")]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+
+    let o = plan(&[
+        "--task",
+        "B",
+        "--templates",
+        "/nonexistent.json",
+        "-o",
+        stem,
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("/nonexistent.json"));
+
+    // One seed and the least budget: task D's template plan stays infeasible.
+    let settings = dir.join("t.json");
+    std::fs::write(&settings, r#"{"neighbours": 1, "max_evaluations": 100}"#).unwrap();
+    let args = [
+        "--task",
+        "D",
+        "--templates",
+        &templates,
+        "--template-settings",
+        settings.to_str().unwrap(),
+        "--networks",
+        artifacts,
+        "-o",
+        stem,
+    ];
+    let o = plan(&args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("planning with the networks instead"), "{err}");
+    assert!(!String::from_utf8_lossy(&o.stdout).contains("templated"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

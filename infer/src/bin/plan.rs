@@ -9,7 +9,9 @@ use infer::cli::TaskArgs;
 use infer::network::NetworkFile;
 use infer::plan::{Plan, svg};
 use infer::template::{TemplateFile, TemplateSettings};
-use infer::{Config, DigPredictor, NetworkPair, Planner, PlannerSettings, RefinePredictor};
+use infer::{
+    Config, DigPredictor, NetworkPair, PlanError, Planner, PlannerSettings, RefinePredictor,
+};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -28,9 +30,10 @@ struct Args {
     #[arg(long)]
     refine: bool,
     /// Plan from this template library (`dataset_gen templates`; e.g.
-    /// artifacts/templates.json) instead of the networks: the nearest
-    /// offline-optimised plans carried over to the task and refitted.
-    #[arg(long, conflicts_with = "refine")]
+    /// artifacts/templates.json): the nearest offline-optimised plans
+    /// carried over to the task and refitted. If no refit is feasible, it
+    /// says why and plans with the networks instead.
+    #[arg(long)]
     templates: Option<PathBuf>,
     /// Template planner settings as JSON (any field left out keeps its default).
     #[arg(long, requires = "templates")]
@@ -123,24 +126,42 @@ fn run(args: Args) -> Result<(), String> {
     let settings: PlannerSettings = common::json_or_default(args.settings.as_deref())?;
     let planner = Planner::new(&cfg, &settings).map_err(|e| e.to_string())?;
     planner.digs_for(&task).map_err(|e| e.to_string())?;
-    let plan: Plan = if let Some(path) = &args.templates {
-        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let file =
-            TemplateFile::from_json(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-        let ts: TemplateSettings = common::json_or_default(args.template_settings.as_deref())?;
-        planner.plan_from_templates(&task, &file.templates, &ts)
-    } else if args.refine {
-        let mut p = RefinePredictor::new(&cfg, 400).map_err(|e| e.to_string())?;
-        planner.plan(&task, &mut p as &mut dyn DigPredictor)
-    } else {
-        let (down, back) = load_networks(&args.networks)?;
-        let mut pair = NetworkPair {
-            downward: down.network().map_err(|e| e.to_string())?,
-            backward: back.network().map_err(|e| e.to_string())?,
-        };
-        planner.plan(&task, &mut pair)
-    }
-    .map_err(|e| e.to_string())?;
+    let from_templates = match &args.templates {
+        None => None,
+        Some(path) => {
+            let text =
+                std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+            let file =
+                TemplateFile::from_json(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+            let ts: TemplateSettings = common::json_or_default(args.template_settings.as_deref())?;
+            match planner.plan_from_templates(&task, &file.templates, &ts) {
+                Ok(plan) => Some(plan),
+                // Bad settings or a bad task are the caller's to fix.
+                Err(e @ (PlanError::Model(_) | PlanError::Task(_))) => return Err(e.to_string()),
+                Err(e) => {
+                    eprintln!("templates: {e}; planning with the networks instead");
+                    None
+                }
+            }
+        }
+    };
+    let plan: Plan = match from_templates {
+        Some(plan) => plan,
+        None if args.refine => {
+            let mut p = RefinePredictor::new(&cfg, 400).map_err(|e| e.to_string())?;
+            planner
+                .plan(&task, &mut p as &mut dyn DigPredictor)
+                .map_err(|e| e.to_string())?
+        }
+        None => {
+            let (down, back) = load_networks(&args.networks)?;
+            let mut pair = NetworkPair {
+                downward: down.network().map_err(|e| e.to_string())?,
+                backward: back.network().map_err(|e| e.to_string())?,
+            };
+            planner.plan(&task, &mut pair).map_err(|e| e.to_string())?
+        }
+    };
 
     let (json, pic) = infer::cli::output_files(&args.out);
     std::fs::write(&json, plan.to_json()).map_err(|e| format!("{}: {e}", json.display()))?;
