@@ -352,6 +352,9 @@ fn initial_step(lo: &DigVars, hi: &DigVars) -> DigVars {
     core::array::from_fn(|i| 0.05 * (hi[i] - lo[i]))
 }
 
+/// A signed step per variable of each dig (the sign: the direction tried first).
+type Steps = [DigVars; MAX_TEMPLATE_DIGS];
+
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 struct DigScore {
     violation: f64,
@@ -565,7 +568,7 @@ impl TemplateWork {
         let last = 2 * MAX_TEMPLATE_DIGS;
         let shared = settings.seed_share * (settings.max_evaluations - last) as f64;
         let per_seed = (shared / seeds as f64) as usize;
-        let mut champion: Option<(Champion, DigVars)> = None;
+        let mut champion: Option<(Champion, Steps)> = None;
         let mut fallback: Option<Champion> = None;
         for (rank, i) in near.into_iter().flatten().enumerate() {
             let t = &templates[i];
@@ -576,7 +579,8 @@ impl TemplateWork {
             self.play(planner, 0, settings.weight_objective);
             core::mem::swap(&mut self.best, &mut self.candidate);
             let limit = (rank + 1) * per_seed;
-            let step = self.refit(planner, &lo, &hi, initial_step(&lo, &hi), limit, settings);
+            let first = [initial_step(&lo, &hi); MAX_TEMPLATE_DIGS];
+            let step = self.refit(planner, &lo, &hi, first, limit, settings);
             let b = Champion::of(i, &self.best);
             if champion
                 .as_ref()
@@ -617,10 +621,11 @@ impl TemplateWork {
         core::mem::swap(&mut self.best, &mut self.candidate);
     }
 
-    /// The compass search from the best seed: each variable of each dig in
-    /// turn moves by ± its step (5 % of its range at first), a move kept
-    /// when it is better by Deb's rules; after a pass without a gain every
-    /// step halves.
+    /// The compass search from the best seed, with a step and a
+    /// direction per variable of each dig: each variable in turn moves by
+    /// its step, the last direction that gained first, a move kept when it
+    /// is better by Deb's rules (and its step then doubles, up to
+    /// its first size); when neither direction gains, the step halves.
     /// Stops once `limit` evaluations in all are spent or every step is
     /// below `min_step`; returns the steps reached.
     fn refit(
@@ -628,25 +633,31 @@ impl TemplateWork {
         planner: &Planner,
         lo: &DigVars,
         hi: &DigVars,
-        mut step: DigVars,
+        mut steps: Steps,
         limit: usize,
         settings: &TemplateSettings,
-    ) -> DigVars {
+    ) -> Steps {
         let n = self.best.count;
         self.candidate.count = n;
+        let first = initial_step(lo, hi);
         let min_step: DigVars = core::array::from_fn(|i| settings.min_step * (hi[i] - lo[i]));
         loop {
-            let mut gained = false;
             for j in 0..n {
                 for i in 0..DIG_VARS {
+                    let step = &mut steps[j][i];
+                    if step.abs() < min_step[i] {
+                        continue;
+                    }
+                    let mut gained = false;
                     for sign in [1.0, -1.0] {
                         // A move of dig j replays digs j..n.
                         if self.evaluations + (n - j) > limit {
-                            return step;
+                            return steps;
                         }
+                        let s = sign * steps[j][i];
                         self.candidate.vars = self.best.vars;
                         let v = &mut self.candidate.vars[j][i];
-                        *v = (*v + sign * step[i]).clamp(lo[i], hi[i]);
+                        *v = (*v + s).clamp(lo[i], hi[i]);
                         if *v == self.best.vars[j][i] {
                             continue;
                         }
@@ -656,17 +667,21 @@ impl TemplateWork {
                         let c = &self.candidate;
                         if better(c.violation, c.value, self.best.violation, self.best.value) {
                             self.accept(j);
+                            steps[j][i] = (2.0 * s).clamp(-first[i], first[i]);
                             gained = true;
                             break;
                         }
                     }
+                    if !gained {
+                        steps[j][i] *= 0.5;
+                    }
                 }
             }
-            if !gained {
-                step.iter_mut().for_each(|s| *s *= 0.5);
-                if step.iter().zip(&min_step).all(|(s, m)| s < m) {
-                    return step;
-                }
+            if steps[..n]
+                .iter()
+                .all(|d| d.iter().zip(&min_step).all(|(s, m)| s.abs() < *m))
+            {
+                return steps;
             }
         }
     }
