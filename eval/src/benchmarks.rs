@@ -1,6 +1,7 @@
 //! Latency and accuracy figures gathered in one place
 //! (`artifacts/benchmarks.{json,md}`): one exact evaluation, one forward
-//! pass, the network planner per dig and per task (tasks A–D), PSO per dig
+//! pass, the network planner per dig and per task (tasks A–D), the
+//! template planner per task, PSO per dig
 //! on the same digs and its throughput on every core, their ratio, and the
 //! network's objective relative to PSO's on those digs. Each figure names
 //! how it was measured; the machine and its load are recorded with them.
@@ -13,7 +14,10 @@ use crate::networks::Networks;
 use crate::planning::run_plan;
 use crate::tasks::reference_tasks;
 use dataset_gen::stats::Distribution;
-use infer::{CarveBuffer, Config, DigPredictor, Ground, Planner, PlannerSettings, Terrain};
+use infer::template::{TemplateSettings, TemplateWork};
+use infer::{
+    CarveBuffer, Config, DigPredictor, Ground, Planner, PlannerSettings, Template, Terrain,
+};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -76,6 +80,7 @@ fn median_time(n: usize, mut f: impl FnMut()) -> f64 {
 /// Measures every figure.
 pub fn measure(
     networks: &Networks,
+    templates: &[Template],
     settings: &BenchSettings,
     command: &str,
 ) -> Result<BenchSummary, EvalError> {
@@ -180,6 +185,40 @@ pub fn measure(
             "ms",
             format!("median of {} plans ({state})", settings.plan_repeats),
         );
+    }
+
+    // The template planner on tasks A–D, its work allocated once.
+    if !templates.is_empty() {
+        let ts = TemplateSettings::default();
+        let mut work = Box::new(TemplateWork::new(&planner)?);
+        for t in &tasks {
+            let mut outcome = String::new();
+            let time = median_time(settings.plan_repeats, || {
+                outcome = match work.plan(&planner, &t.task, templates, &ts) {
+                    Ok(()) => {
+                        let m = work.metrics();
+                        format!(
+                            "{} digs, under-dug {:.1} %, over-dug {:.1} %",
+                            work.len(),
+                            m.under_dug * 100.0,
+                            m.over_dug * 100.0
+                        )
+                    }
+                    Err(e) => format!("no plan: {e}"),
+                };
+            });
+            fig(
+                &format!("template planner, task {}", t.name),
+                time * 1e3,
+                "ms",
+                format!(
+                    "median of {} plans from {} templates, at most {} exact evaluations ({outcome})",
+                    settings.plan_repeats,
+                    templates.len(),
+                    ts.max_evaluations
+                ),
+            );
+        }
     }
 
     // PSO on the same digs, one thread, and the network's objective against it.

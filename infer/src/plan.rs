@@ -166,7 +166,7 @@ impl Planner {
         Ok(Plan {
             task: *task,
             design,
-            metrics: design.compare(work.final_terrain()),
+            metrics: work.metrics(),
             stopped: None,
             digs,
             planning_seconds: clock.elapsed().as_secs_f64(),

@@ -33,7 +33,7 @@ use crate::query::DigQuery;
 use crate::repair::{Assessment, DesignGuard, Outcome, assess};
 use crate::terrain::{CarveBuffer, Terrain};
 use crate::trajectory::DigParams;
-use crate::trench::{DesignProfile, TrenchTask};
+use crate::trench::{DesignProfile, ProfileMetrics, TrenchTask};
 use serde::{Deserialize, Serialize};
 
 /// Variables per dig: type (< 0.5 downward), start x, chord, end lift,
@@ -462,6 +462,12 @@ impl TemplateWork {
 
     pub fn design(&self) -> &DesignProfile {
         &self.design
+    }
+
+    /// The final surface of the last plan against its design profile.
+    pub fn metrics(&mut self) -> ProfileMetrics {
+        let design = self.design;
+        design.compare(self.final_terrain())
     }
 
     /// The final surface of the last plan.

@@ -150,9 +150,12 @@ enum Command {
         networks: PathBuf,
         #[arg(long, default_value = "artifacts")]
         out: PathBuf,
-        /// Times tasks A–D are planned with the network.
+        /// Times tasks A–D are planned with the network (and from templates).
         #[arg(long, default_value_t = 50)]
         repeats: usize,
+        /// Templates tasks A–D are also planned from (`none`: not timed).
+        #[arg(long, default_value = "artifacts/templates.json")]
+        templates: String,
     },
 }
 
@@ -276,13 +279,23 @@ fn run(cli: Cli) -> Result<(), EvalError> {
             networks,
             out,
             repeats,
+            templates,
         } => {
             let nets = Networks::load(&networks)?;
+            let templates = match templates.as_str() {
+                "none" => Vec::new(),
+                file => TemplatePlanning {
+                    file: file.into(),
+                    ..TemplatePlanning::default()
+                }
+                .load()
+                .map_err(EvalError::BadArgument)?,
+            };
             let settings = benchmarks::BenchSettings {
                 plan_repeats: repeats,
                 ..Default::default()
             };
-            let s = benchmarks::measure(&nets, &settings, &command_line())?;
+            let s = benchmarks::measure(&nets, &templates, &settings, &command_line())?;
             benchmarks::write(&out, &s)?;
             print!("{}", benchmarks::markdown(&s));
         }
