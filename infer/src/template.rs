@@ -33,7 +33,7 @@ use crate::query::DigQuery;
 use crate::repair::{Assessment, DesignGuard, Outcome, assess};
 use crate::terrain::{CarveBuffer, Terrain};
 use crate::trajectory::DigParams;
-use crate::trench::{DesignProfile, ProfileMetrics, TrenchTask};
+use crate::trench::{DesignProfile, ProfileMetrics, TaskError, TrenchTask};
 use serde::{Deserialize, Serialize};
 
 /// Variables per dig: type (< 0.5 downward), start x, chord, end lift,
@@ -319,7 +319,6 @@ impl TemplateSettings {
     }
 }
 
-/// Per dig of a played sequence: its violation and dig objective.
 /// A seed's refitted sequence.
 #[derive(Clone, Copy)]
 struct Champion {
@@ -355,6 +354,7 @@ fn initial_step(lo: &DigVars, hi: &DigVars) -> DigVars {
 /// A signed step per variable of each dig (the sign: the direction tried first).
 type Steps = [DigVars; MAX_TEMPLATE_DIGS];
 
+/// Per dig of a played sequence: its violation and dig objective.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 struct DigScore {
     violation: f64,
@@ -366,6 +366,9 @@ struct DigScore {
 pub const WINDOW: usize = 1024;
 /// Where that stretch starts, before the design's near edge \[m\].
 const WINDOW_BEFORE: f64 = 0.9;
+/// How far it must reach past the design's far edge \[m\]: starts may lie
+/// 3 cm past it, and the bucket swings out beyond the start.
+const WINDOW_AFTER: f64 = 0.4;
 
 /// One sequence and the surfaces it leaves, over the window: `after[j]`
 /// is the surface before dig j (`after[0]` the task's start),
@@ -550,6 +553,14 @@ impl TemplateWork {
         let j0 = j0.min(t.len() - 1);
         let w = WINDOW.min(t.len() - j0);
         self.window = (j0, w);
+        let max_length = t.x_at(j0 + w - 1) - WINDOW_AFTER - self.design.near_edge;
+        if task.length > max_length {
+            return Err(TaskError::TooLong {
+                length: task.length,
+                max_length,
+            }
+            .into());
+        }
         self.best.after[0][..w].copy_from_slice(&t.heights()[j0..j0 + w]);
         self.candidate.after[0] = self.best.after[0];
         self.best.violation = f64::INFINITY;
@@ -734,8 +745,11 @@ impl TemplateWork {
                         worst,
                         evaluations: self.evaluations,
                     }),
-                    // Replayed, it holds after all: the next dig is the one.
-                    None => continue,
+                    // It holds on the whole terrain: it carved outside the window.
+                    None => Err(PlanError::Task(TaskError::TooLong {
+                        length: self.task.length,
+                        max_length: self.design.far_edge - self.design.near_edge,
+                    })),
                 },
                 None => Err(PlanError::Pose {
                     dig: j,

@@ -192,6 +192,16 @@ fn bad_input_gives_an_error() {
         plan(&deep, &templates, &quick()),
         Err(PlanError::Task(_))
     ));
+    // Longer than the stretch of terrain the template planner keeps.
+    let long = TrenchTask {
+        far_edge: 1.6,
+        ..TrenchTask::new_deg(1.4, 0.1, 60.0, 60.0)
+    };
+    assert!(planner.digs_for(&long).is_ok());
+    assert!(matches!(
+        plan(&long, &templates, &quick()),
+        Err(PlanError::Task(infer::TaskError::TooLong { .. }))
+    ));
     let nan = TrenchTask::new_deg(f64::NAN, 0.15, 60.0, 60.0);
     assert!(matches!(
         plan(&nan, &templates, &quick()),

@@ -136,8 +136,8 @@ fn run(args: Args) -> Result<(), String> {
             let ts: TemplateSettings = common::json_or_default(args.template_settings.as_deref())?;
             match planner.plan_from_templates(&task, &file.templates, &ts) {
                 Ok(plan) => Some(plan),
-                // Bad settings or a bad task are the caller's to fix.
-                Err(e @ (PlanError::Model(_) | PlanError::Task(_))) => return Err(e.to_string()),
+                // Bad settings are the caller's to fix (the task was checked above).
+                Err(e @ PlanError::Model(_)) => return Err(e.to_string()),
                 Err(e) => {
                     eprintln!("templates: {e}; planning with the networks instead");
                     None
