@@ -443,7 +443,6 @@ impl TemplateWork {
         })
     }
 
-    /// Number of digs of the last plan.
     /// Number of digs of the last plan: 0 unless it succeeded.
     pub fn len(&self) -> usize {
         self.planned
