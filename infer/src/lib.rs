@@ -13,7 +13,9 @@
 //! ([`network`], no burn), the validation and repair of a predicted dig
 //! ([`repair`]), trenching tasks and their design profile ([`trench`]), and
 //! the continuous trench planner ([`planner`]: a task becomes a sequence of
-//! feasible digs, each planned on the surface the last one left), and with
+//! feasible digs, each planned on the surface the last one left), the
+//! template planner ([`template`]: whole plans optimised offline, carried
+//! over to a task and refitted within a bound), and with
 //! `std` whole plans ([`plan`]) and their replay under the exact model
 //! ([`verify`]), so a plan file can be checked on its own.
 //!
