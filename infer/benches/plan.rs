@@ -12,7 +12,7 @@
 //! - `task_X_bounded`: the default settings with at most 40 exact
 //!   evaluations per dig (`max_evaluations`): a controller's deadline.
 //! - `template_task_X[_N]`: the template planner (`artifacts/templates.json`)
-//!   with the default bound of 1,200 exact evaluations per task, and with
+//!   with the default bound of 4,800 exact evaluations per task, and with
 //!   N; the work is allocated once, as a controller would.
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -113,7 +113,7 @@ fn bench(c: &mut Criterion) {
     let templates = TemplateFile::from_json(&text).unwrap().templates;
     let planner = Planner::new(&cfg, &PlannerSettings::default()).unwrap();
     let mut work = Box::new(TemplateWork::new(&planner).unwrap());
-    for (suffix, max_evaluations) in [("", 1200), ("_300", 300)] {
+    for (suffix, max_evaluations) in [("", 4800), ("_1200", 1200), ("_300", 300)] {
         let settings = TemplateSettings {
             max_evaluations,
             ..TemplateSettings::default()
