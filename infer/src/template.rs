@@ -253,19 +253,11 @@ impl Template {
         }
         out
     }
+}
 
-    /// L, D, β1, β2 and far edge, scaled by `span`: the space in which
-    /// tasks are near or far.
-    fn features(task: &TrenchTask, span: &[f64; 5]) -> [f64; 5] {
-        let f = [
-            task.length,
-            task.depth,
-            task.slope_far,
-            task.slope_near,
-            task.far_edge,
-        ];
-        core::array::from_fn(|i| f[i] / span[i])
-    }
+/// L, D, β1, β2 and far edge: the space in which tasks are near or far.
+fn features(t: &TrenchTask) -> [f64; 5] {
+    [t.length, t.depth, t.slope_far, t.slope_near, t.far_edge]
 }
 
 /// How a template plan is made.
@@ -666,8 +658,7 @@ impl TemplateWork {
         loop {
             for j in (0..n).rev() {
                 for i in 0..DIG_VARS {
-                    let step = &mut steps[j][i];
-                    if step.abs() < min_step[i] {
+                    if steps[j][i].abs() < min_step[i] {
                         continue;
                     }
                     let mut gained = false;
@@ -831,20 +822,21 @@ fn nearest(
     digs: usize,
     k: usize,
 ) -> [Option<usize>; MAX_NEIGHBOURS] {
-    let feature = |t: &TrenchTask| [t.length, t.depth, t.slope_far, t.slope_near, t.far_edge];
     let mut lo = [f64::INFINITY; 5];
     let mut hi = [f64::NEG_INFINITY; 5];
     for t in templates {
-        for (i, f) in feature(&t.task).into_iter().enumerate() {
+        for (i, f) in features(&t.task).into_iter().enumerate() {
             lo[i] = lo[i].min(f);
             hi[i] = hi[i].max(f);
         }
     }
     let span: [f64; 5] = core::array::from_fn(|i| (hi[i] - lo[i]).max(1e-6));
-    let at = Template::features(task, &span);
+    let at = features(task);
     let distance = |t: &Template| {
-        let f = Template::features(&t.task, &span);
-        (0..5).map(|i| (f[i] - at[i]) * (f[i] - at[i])).sum::<f64>()
+        let f = features(&t.task);
+        (0..5)
+            .map(|i| ((f[i] - at[i]) / span[i]).powi(2))
+            .sum::<f64>()
     };
     let k = k.min(MAX_NEIGHBOURS);
     let mut near: [Option<(f64, usize)>; MAX_NEIGHBOURS] = [None; MAX_NEIGHBOURS];
