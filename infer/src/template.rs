@@ -835,7 +835,10 @@ fn nearest(
     let distance = |t: &Template| {
         let f = features(&t.task);
         (0..5)
-            .map(|i| ((f[i] - at[i]) / span[i]).powi(2))
+            .map(|i| {
+                let d = (f[i] - at[i]) / span[i];
+                d * d
+            })
             .sum::<f64>()
     };
     let k = k.min(MAX_NEIGHBOURS);
