@@ -258,7 +258,7 @@ pub fn evaluate_with(
     let mut power_max = 0.0f64;
     let mut energy = 0.0;
     let mut prev_power = 0.0;
-    let mut prev_tip = [0.0; 2];
+    let mut prev_tip = terrain.grid_point([0.0; 2]);
     let mut prev_velocity = [0.0; 2];
     let mut lowest = f64::INFINITY;
 
@@ -268,24 +268,25 @@ pub fn evaluate_with(
         let js = traj.at(t);
         let frames = LinkFrames::new(&js.q);
         let local = frames.tip(&m.link_length);
-        let tip = [local[0] + ground.base_x, local[1]];
+        let tip = terrain.grid_point([local[0] + ground.base_x, local[1]]);
         let tip_velocity = mul_jacobian(&frames.jacobian(&m.link_length), &js.qd);
         if k > 0 {
             // Carve through the cubic-Hermite midpoint of the step, so the
             // swept path is exact to O(dt⁴) rather than the chord's O(dt²).
-            let mid: [f64; 2] = core::array::from_fn(|i| {
-                0.5 * (prev_tip[i] + tip[i]) + dt / 8.0 * (prev_velocity[i] - tip_velocity[i])
-            });
+            let mid = terrain.grid_point(core::array::from_fn(|i| {
+                0.5 * (prev_tip.p[i] + tip.p[i]) + dt / 8.0 * (prev_velocity[i] - tip_velocity[i])
+            }));
             carver.cut(prev_tip, mid)?;
             carver.cut(mid, tip)?;
-            lowest = lowest.min(mid[1]);
+            lowest = lowest.min(mid.p[1]);
         }
         prev_tip = tip;
         prev_velocity = tip_velocity;
-        lowest = lowest.min(tip[1]);
+        lowest = lowest.min(tip.p[1]);
         let surface = terrain
-            .height_at(tip[0])
-            .ok_or(Error::OffTerrain { x: tip[0] })?;
+            .height_at_grid(tip.f)
+            .ok_or(Error::OffTerrain { x: tip.p[0] })?;
+        let tip = tip.p;
         let depth = (surface - tip[1]).max(0.0);
         let force = tip_resistance(m, &cfg.soil, depth, tip_velocity);
         let volume = width * carver.area();

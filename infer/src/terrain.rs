@@ -7,7 +7,7 @@
 //! polyline at the grid nodes. The grid is fixed-size so nothing allocates.
 
 use crate::error::{Error, ensure_finite};
-use crate::math::{ceil, floor};
+use crate::math::ceil;
 
 /// Most nodes a terrain holds: 10.24 m at the default 2.5 mm spacing.
 pub const TERRAIN_CAPACITY: usize = 4096;
@@ -111,11 +111,33 @@ impl Terrain {
     /// Surface height at `x`, linear between nodes; `None` off the grid.
     #[inline]
     pub fn height_at(&self, x: f64) -> Option<f64> {
-        let f = (x - self.x0) / self.dx;
+        self.height_at_grid(self.grid(x))
+    }
+
+    /// x in grid units, (x − x0) / dx: computed once per point, it serves
+    /// both the height lookup and the carving (the hot loop of a dig).
+    #[inline]
+    pub(crate) fn grid(&self, x: f64) -> f64 {
+        (x - self.x0) / self.dx
+    }
+
+    /// `p` (terrain frame) with its grid coordinate.
+    #[inline]
+    pub(crate) fn grid_point(&self, p: [f64; 2]) -> GridPoint {
+        GridPoint {
+            p,
+            f: self.grid(p[0]),
+        }
+    }
+
+    /// [`Terrain::height_at`] at the grid coordinate `f`.
+    #[inline]
+    pub(crate) fn height_at_grid(&self, f: f64) -> Option<f64> {
         if !(f >= 0.0 && f <= (self.len - 1) as f64) {
             return None;
         }
-        let j = (floor(f) as usize).min(self.len - 2);
+        // f ≥ 0 here, so truncation is floor.
+        let j = (f as usize).min(self.len - 2);
         let w = f - j as f64;
         Some(self.h[j] * (1.0 - w) + self.h[j + 1] * w)
     }
@@ -130,7 +152,7 @@ impl Terrain {
     ) -> Result<f64, Error> {
         let mut carver = Carver::new(self, scratch);
         for w in points.windows(2) {
-            carver.cut(w[0], w[1])?;
+            carver.cut(self.grid_point(w[0]), self.grid_point(w[1]))?;
         }
         let area = carver.area();
         self.commit(scratch);
@@ -201,6 +223,13 @@ impl core::fmt::Debug for CarveBuffer {
     }
 }
 
+/// A point of a carved path with its grid coordinate (x − x0) / dx.
+#[derive(Clone, Copy, Default)]
+pub(crate) struct GridPoint {
+    pub(crate) p: [f64; 2],
+    pub(crate) f: f64,
+}
+
 /// Carves segments into a window of a terrain copied on first touch,
 /// counting the removed area as it goes (so the load in the bucket is known
 /// at every instant of the dig).
@@ -208,6 +237,8 @@ pub(crate) struct Carver<'a> {
     terrain: &'a Terrain,
     scratch: &'a mut CarveBuffer,
     removed: f64,
+    /// x of the terrain's last node, once rather than per cut.
+    x_end: f64,
 }
 
 impl<'a> Carver<'a> {
@@ -215,6 +246,7 @@ impl<'a> Carver<'a> {
         scratch.lo = 0;
         scratch.hi = 0;
         Carver {
+            x_end: terrain.x_end(),
             terrain,
             scratch,
             removed: 0.0,
@@ -227,23 +259,21 @@ impl<'a> Carver<'a> {
         self.removed * self.terrain.dx
     }
 
-    /// Carves the straight segment from `a` to `b` (terrain frame).
+    /// Carves the straight segment from `a` to `b`.
     #[inline]
-    pub(crate) fn cut(&mut self, a: [f64; 2], b: [f64; 2]) -> Result<(), Error> {
+    pub(crate) fn cut(&mut self, a: GridPoint, b: GridPoint) -> Result<(), Error> {
         let t = self.terrain;
-        let (xl, xr) = if a[0] <= b[0] {
-            (a[0], b[0])
+        let ((xl, fl), (xr, fr)) = if a.p[0] <= b.p[0] {
+            ((a.p[0], a.f), (b.p[0], b.f))
         } else {
-            (b[0], a[0])
+            ((b.p[0], b.f), (a.p[0], a.f))
         };
-        let last = t.x_end();
-        if xl < t.x0 || xr > last {
+        if xl < t.x0 || xr > self.x_end {
             return Err(Error::OffTerrain {
                 x: if xl < t.x0 { xl } else { xr },
             });
         }
         // Both offsets are ≥ 0 here, so truncation is floor.
-        let (fl, fr) = ((xl - t.x0) / t.dx, (xr - t.x0) / t.dx);
         let j0 = {
             let j = fl as usize;
             if (j as f64) < fl { j + 1 } else { j }
@@ -253,6 +283,7 @@ impl<'a> Carver<'a> {
             return Ok(());
         }
         self.cover(j0, j1 + 1);
+        let (a, b) = (a.p, b.p);
         let run = b[0] - a[0];
         let slope = if run == 0.0 { 0.0 } else { (b[1] - a[1]) / run };
         let flat = a[1].min(b[1]);
@@ -274,6 +305,7 @@ impl<'a> Carver<'a> {
     }
 
     /// Grows the copied window to include nodes `lo..hi`.
+    #[inline]
     fn cover(&mut self, lo: usize, hi: usize) {
         let s = &mut *self.scratch;
         let h = &self.terrain.h;

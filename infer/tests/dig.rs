@@ -248,3 +248,65 @@ fn config_round_trips_through_json_and_partial_files_keep_defaults() {
     assert_eq!(partial.soil.mu, cfg.soil.mu);
     assert!(serde_json::from_str::<Config>(r#"{"soyl": {}}"#).is_err());
 }
+
+/// FNV-1a over the bits of every figure and sample of 300 random digs, each
+/// on the surface the ones before carved. Datasets, trained networks and
+/// shipped plans all rest on these numbers, so a speed-up of the evaluation
+/// must leave them bit-identical; a deliberate change of the model updates
+/// the pinned value (and regenerates what rests on it).
+#[test]
+fn evaluation_numbers_are_pinned_to_the_bit() {
+    let cfg = Config::default();
+    let ranges = QueryRanges::default();
+    let mut rng = Lcg(12345);
+    let mut terrain = infer::Terrain::flat(-1.5, 3.0, cfg.terrain_dx, cfg.ground_level).unwrap();
+    let mut buf = CarveBuffer::default();
+    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut mix = |v: f64| {
+        for byte in v.to_bits().to_le_bytes() {
+            hash = (hash ^ u64::from(byte)).wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    };
+    let mut evaluated = 0;
+    for i in 0..300 {
+        let kind = DigType::ALL[i % 2];
+        let u: [f64; 6] = std::array::from_fn(|_| rng.next());
+        let Ok(q) = ranges.query_at(&cfg, kind, u) else {
+            continue;
+        };
+        let y = DigParams {
+            a6: [
+                rng.range(-2e-4, 2e-4),
+                rng.range(-2e-4, 2e-4),
+                rng.range(-2e-5, 2e-5),
+            ],
+            duration: rng.range(3.0, 10.0),
+        };
+        let ground = Ground {
+            terrain: &terrain,
+            base_x: rng.range(-0.1, 0.1),
+        };
+        let r = infer::dig::evaluate_with(&cfg, &q.task(), &y, ground, &mut buf, |s| {
+            for v in [s.t, s.tip[0], s.tip[1], s.depth, s.force[0], s.force[1]] {
+                mix(v);
+            }
+            for v in [s.torque[0], s.torque[1], s.torque[2], s.power, s.volume] {
+                mix(v);
+            }
+        })
+        .unwrap();
+        for v in [r.volume, r.energy, r.peak_power, r.dig_angle, r.objective] {
+            mix(v);
+        }
+        mix(r.total_violation());
+        evaluated += 1;
+        if i % 10 == 0 {
+            terrain.commit(&buf);
+        }
+    }
+    assert!(evaluated > 100, "{evaluated} digs evaluated");
+    assert_eq!(
+        hash, 0xdb9b_b3bc_2ffa_3502,
+        "evaluation numbers changed ({evaluated} digs)"
+    );
+}
