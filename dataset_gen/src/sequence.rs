@@ -323,6 +323,7 @@ fn to_plan(
             evaluations,
             report: a.report,
             over_dig: a.over_dig,
+            stretch: 1.0,
         };
         records.push(DigRecord::new(planner, planned, &design, terrain));
     });

@@ -258,14 +258,22 @@ pub fn solve_again(
 pub struct AloneDig {
     /// How the answer was made feasible; `None` when repair failed.
     pub outcome: Option<Outcome>,
+    /// The stretch of its time retiming applied (1: none).
+    #[serde(default = "no_stretch")]
+    pub stretch: f64,
     pub figures: DigFigures,
 }
 
+fn no_stretch() -> f64 {
+    1.0
+}
+
 /// The network alone on the problem of [`solve_again`]: its Y for the dig's
-/// query, checked by the exact model on the surface before the dig and, if
-/// it breaks a constraint, repaired (time rescaling, then the bounded
-/// refinement of `settings`) without the design guard, as the source's
-/// network answers a dig. Timed from the forward pass to the checked
+/// query, matched to the surface and retimed ([`SurfaceMatched`]), checked
+/// by the exact model on the surface before the dig and, if it breaks a
+/// constraint, repaired (time rescaling, then the bounded refinement of
+/// `settings`) without the design guard, as the source's network answers
+/// a dig. Timed from the forward pass to the checked
 /// answer; the cut is then measured against `guard`, untimed.
 pub fn answer_alone(
     cfg: &Config,
@@ -287,25 +295,30 @@ pub fn answer_alone(
         .map_err(|e| e.to_string())
         .and_then(|y| match predictor.last_checked() {
             // Checked already, on this ground without a guard: not again.
-            Some(c) if c.params == y && c.assessment.feasible => Ok(Repaired {
-                params: y,
-                assessment: c.assessment,
-                outcome: if c.stretched {
-                    Outcome::Rescaled
-                } else {
-                    Outcome::Predicted
+            Some(c) if c.params == y && c.assessment.feasible => Ok((
+                Repaired {
+                    params: y,
+                    assessment: c.assessment,
+                    outcome: if c.stretched {
+                        Outcome::Rescaled
+                    } else {
+                        Outcome::Predicted
+                    },
+                    evaluations: 1,
                 },
-                evaluations: 1,
-            }),
+                c.stretch,
+            )),
             _ => repair(cfg, &task, &y, ground, &mut scratch, None, settings)
+                .map(|r| (r, 1.0))
                 .map_err(|e| e.to_string()),
         });
     let seconds = clock.elapsed().as_secs_f64();
-    let repaired = match answer {
+    let (repaired, stretch) = match answer {
         Ok(r) => r,
         Err(why) => {
             return AloneDig {
                 outcome: None,
+                stretch: 1.0,
                 figures: DigFigures::failed([f64::NAN; 4], why, seconds),
             };
         }
@@ -330,6 +343,7 @@ pub fn answer_alone(
     };
     AloneDig {
         outcome: Some(repaired.outcome),
+        stretch,
         figures,
     }
 }

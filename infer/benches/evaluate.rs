@@ -1,7 +1,9 @@
 //! One full dig evaluation at the default time grid (goal: ≤ 20 µs on one
-//! core of the 2-core development machine).
+//! core of the 2-core development machine), and retiming a dig (one
+//! recorded evaluation, the search on the record, one exact check).
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use infer::retime::{RetimeWork, best_stretch, retime};
 use infer::{CarveBuffer, Config, Ground, Terrain};
 use std::hint::black_box;
 
@@ -11,14 +13,49 @@ fn bench(c: &mut Criterion) {
     let terrain = Terrain::flat(-1.5, 1.5, cfg.terrain_dx, q.surface).unwrap();
     let task = q.task();
     let mut buf = CarveBuffer::default();
+    let ground = Ground {
+        terrain: &terrain,
+        base_x: 0.0,
+    };
     c.bench_function(&format!("evaluate_dig_{}_samples", cfg.time_samples), |b| {
         b.iter(|| {
-            let ground = Ground {
-                terrain: &terrain,
-                base_x: 0.0,
-            };
             black_box(
                 infer::evaluate(&cfg, black_box(&task), black_box(&y), ground, &mut buf).unwrap(),
+            )
+        })
+    });
+    // The reference Y is near its best stretch already: retime a slower copy.
+    let slow = infer::repair::rescale(&y, 1.1);
+    let mut work = Box::new(RetimeWork::default());
+    c.bench_function("record_and_search_stretch", |b| {
+        b.iter(|| {
+            black_box(
+                best_stretch(
+                    &cfg,
+                    &task,
+                    black_box(&slow),
+                    ground,
+                    &mut buf,
+                    None,
+                    &mut work,
+                )
+                .unwrap(),
+            )
+        })
+    });
+    c.bench_function("retime_dig", |b| {
+        b.iter(|| {
+            black_box(
+                retime(
+                    &cfg,
+                    &task,
+                    black_box(&slow),
+                    ground,
+                    &mut buf,
+                    None,
+                    &mut work,
+                )
+                .unwrap(),
             )
         })
     });

@@ -239,6 +239,19 @@ pub fn evaluate_with(
     scratch: &mut CarveBuffer,
     mut on_sample: impl FnMut(&Sample),
 ) -> Result<DigReport, Error> {
+    evaluate_framed(cfg, task, params, ground, scratch, |s, _| on_sample(s))
+}
+
+/// [`evaluate_with`], also handing the hook each sample's link frames (so
+/// a caller can run more dynamics on them without the trigonometry again).
+pub(crate) fn evaluate_framed(
+    cfg: &Config,
+    task: &DigTask,
+    params: &DigParams,
+    ground: Ground<'_>,
+    scratch: &mut CarveBuffer,
+    mut on_sample: impl FnMut(&Sample, &LinkFrames),
+) -> Result<DigReport, Error> {
     let m = &cfg.machine;
     check_joint_range(m, &task.start)?;
     check_joint_range(m, &task.end)?;
@@ -310,16 +323,19 @@ pub fn evaluate_with(
             energy += 0.5 * (prev_power + power) * dt;
         }
         prev_power = power;
-        on_sample(&Sample {
-            t,
-            joints: js,
-            tip,
-            depth,
-            force,
-            torque,
-            power,
-            volume,
-        });
+        on_sample(
+            &Sample {
+                t,
+                joints: js,
+                tip,
+                depth,
+                force,
+                torque,
+                power,
+                volume,
+            },
+            &frames,
+        );
     }
 
     let volume = width * carver.area();

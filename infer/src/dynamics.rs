@@ -27,6 +27,28 @@ pub fn inverse_dynamics(
     rne(machine, frames, qd, qdd, machine.gravity, load, tip_force)
 }
 
+/// The part of [`inverse_dynamics`] that does not depend on the motion:
+/// gravity on the arm and its load, and the tip force. The rest is linear
+/// in q̈ and quadratic in q̇, so it scales by 1/k² when the motion is
+/// slowed by k along the same path ([`crate::retime`]).
+#[inline]
+pub fn static_torque(
+    machine: &Machine,
+    frames: &LinkFrames,
+    load: f64,
+    tip_force: [f64; 2],
+) -> [f64; 3] {
+    rne(
+        machine,
+        frames,
+        &[0.0; 3],
+        &[0.0; 3],
+        machine.gravity,
+        load,
+        tip_force,
+    )
+}
+
 /// Recursive Newton–Euler with an explicit gravity, so the mass matrix can
 /// reuse it with gravity off.
 #[inline]

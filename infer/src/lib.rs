@@ -41,6 +41,7 @@ pub mod predictor;
 pub mod query;
 pub mod repair;
 pub mod resistance;
+pub mod retime;
 pub mod template;
 pub mod terrain;
 pub mod trajectory;

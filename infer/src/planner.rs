@@ -45,6 +45,7 @@ use crate::repair::{
     Assessment, DesignGuard, Outcome, OverDig, RepairError, RepairSettings, Violation, assess,
     refine_by, repair,
 };
+use crate::retime::{RetimeWork, retime as retime_dig};
 use crate::terrain::{CarveBuffer, TERRAIN_CAPACITY, Terrain};
 use crate::trajectory::DigParams;
 use crate::trench::{DesignProfile, ProfileMetrics, TaskError, TrenchTask};
@@ -137,6 +138,11 @@ pub struct PlannerSettings {
     /// the dig is the best feasible one found by then. `None`: no bound.
     /// At least 2; not with rollouts (their playouts are not bounded).
     pub max_evaluations: Option<usize>,
+    /// Retime each chosen dig ([`crate::retime`]): stretch its time to the
+    /// lowest objective under every limit, its path and carving unchanged
+    /// (two evaluations more per dig, three if the check fails; skipped
+    /// when the evaluation bound leaves no room for them).
+    pub retime: bool,
 }
 
 impl Default for PlannerSettings {
@@ -183,6 +189,7 @@ impl Default for PlannerSettings {
             },
             polish_keep: 0.03,
             max_evaluations: None,
+            retime: true,
         }
     }
 }
@@ -298,6 +305,14 @@ pub struct PlannedDig {
     pub report: DigReport,
     /// Its cut below the design profile.
     pub over_dig: OverDig,
+    /// The stretch k of its time that retiming applied (1: none; below 1:
+    /// faster), [`crate::retime`].
+    #[serde(default = "no_stretch")]
+    pub stretch: f64,
+}
+
+fn no_stretch() -> f64 {
+    1.0
 }
 
 /// What a task asks: the design profile and the guard every dig must meet.
@@ -330,6 +345,8 @@ pub struct PlanState {
     rollout: Scene,
     /// Carving of the dig being evaluated (shared by the planner and its rollouts).
     carve: CarveBuffer,
+    /// The record of the chosen dig, for retiming.
+    retime: RetimeWork,
 }
 
 impl core::fmt::Debug for PlanState {
@@ -476,6 +493,7 @@ impl Planner {
             rollout: scene.clone(),
             scene,
             carve: CarveBuffer::default(),
+            retime: RetimeWork::default(),
         })
     }
 
@@ -491,9 +509,19 @@ impl Planner {
             scene,
             rollout,
             carve,
+            retime,
             ..
         } = state;
-        self.step(target, scene, carve, Some(rollout), false, predictor)
+        let retime = self.settings.retime.then_some(retime);
+        self.step(
+            target,
+            scene,
+            carve,
+            Some(rollout),
+            retime,
+            false,
+            predictor,
+        )
     }
 
     /// One dig on `scene`. `rollout`, when given, is the spare surface on
@@ -501,13 +529,15 @@ impl Planner {
     /// task out ([`Self::play_out`]). `quick` is the cheap policy rollouts
     /// may play instead of the full search: the first candidate scoring
     /// `rollout_accept` is taken, nothing is refined, and a failed dig is
-    /// only time-rescaled.
+    /// only time-rescaled. `retime`, when given, retimes the chosen dig.
+    #[allow(clippy::too_many_arguments)]
     fn step<P: DigPredictor + ?Sized>(
         &self,
         target: &Target,
         scene: &mut Scene,
         carve: &mut CarveBuffer,
         rollout: Option<&mut Scene>,
+        retime: Option<&mut RetimeWork>,
         quick: bool,
         predictor: &mut P,
     ) -> Result<Option<PlannedDig>, PlanError> {
@@ -782,29 +812,32 @@ impl Planner {
             scene.stopped = Some(error);
             return Ok(None);
         };
-        // Carve the chosen dig (one evaluation: its carving is not kept
-        // while candidates and rollouts use the buffers).
+        // Carve the chosen dig, retimed if asked and the bound leaves room
+        // (its carving was not kept while candidates and rollouts used the
+        // buffers).
         let ground = t.candidate.ground(&scene.terrain);
-        let a = assess(
-            &self.cfg,
-            &t.candidate.query.task(),
-            &t.params,
-            ground,
-            carve,
-            Some(&target.guard),
-        )?;
-        evaluations += 1;
+        let task = t.candidate.query.task();
+        let guard = Some(&target.guard);
+        let (params, a, stretch) = match retime {
+            Some(work) if cap >= evaluations + 3 => {
+                let r = retime_dig(&self.cfg, &task, &t.params, ground, carve, guard, work)?;
+                evaluations += r.evaluations;
+                (r.params, r.assessment, r.stretch)
+            }
+            _ => {
+                evaluations += 1;
+                let a = assess(&self.cfg, &task, &t.params, ground, carve, guard)?;
+                (t.params, a, 1.0)
+            }
+        };
         scene.terrain.commit(carve);
         scene.base_x = t.candidate.base_x;
         scene.done += 1;
-        Ok(Some(t.candidate.planned(
-            index,
-            t.predicted,
-            t.params,
-            t.outcome,
-            evaluations,
-            &a,
-        )))
+        let mut planned =
+            t.candidate
+                .planned(index, t.predicted, params, t.outcome, evaluations, &a);
+        planned.stretch = stretch;
+        Ok(Some(planned))
     }
 
     /// Plays the rest of the task out on `roll` after `dig`, with the
@@ -841,7 +874,7 @@ impl Planner {
         let quick = !self.settings.rollout_full;
         let mut evaluations = 1;
         for _ in 0..self.settings.rollout_depth {
-            match self.step(target, roll, carve, None, quick, predictor) {
+            match self.step(target, roll, carve, None, None, quick, predictor) {
                 Ok(Some(d)) => evaluations += d.evaluations,
                 _ => break,
             }
@@ -1195,6 +1228,7 @@ impl Candidate {
             evaluations,
             report: a.report,
             over_dig: a.over_dig,
+            stretch: 1.0,
         }
     }
 }

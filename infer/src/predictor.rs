@@ -5,12 +5,13 @@
 //! right.
 
 use crate::config::Config;
-use crate::dig::{DigTask, DigType, Ground};
+use crate::dig::{DigType, Ground};
 use crate::error::Error;
 use crate::kinematics::forward;
 use crate::network::Network;
 use crate::query::{DigQuery, QueryRanges};
-use crate::repair::{Assessment, RepairSettings, assess, refine, stretched};
+use crate::repair::{Assessment, RepairSettings, assess, refine, rescale};
+use crate::retime::{RetimeWork, Stretch, best_stretch};
 use crate::terrain::{CarveBuffer, Terrain};
 use crate::trajectory::DigParams;
 
@@ -142,19 +143,24 @@ impl DigPredictor for RefinePredictor {
 /// so) asked until its dig fills the bucket on the real surface. On ground
 /// earlier digs carved, a flat surface at the dig's start is a poor
 /// stand-in and the dig comes out part-empty; a lower H makes the network
-/// dig deeper. Each try is one prediction and one exact evaluation, plus
-/// one more when the dig breaks a speed, acceleration or power limit that
-/// a longer duration meets. H moves first by the missing volume over the
-/// bucket width, the chord and the network's response, then by secant,
-/// and stays within the heights the network was trained on. The best try
-/// is returned, feasible first, then lowest objective;
-/// [`SurfaceMatched::last_checked`] has its check, so a caller need not
-/// evaluate it again.
+/// dig deeper. Each try is one prediction and one exact evaluation, which
+/// also records the dig for retiming ([`crate::retime`]): the stretch of
+/// its time with the lowest objective under every limit is searched on the
+/// record, so a try that breaks a speed, acceleration, torque or power
+/// limit counts as what its stretch would make of it. H moves first by the
+/// missing volume over the bucket width, the chord and the network's
+/// response, then by secant, and stays within the heights the network was
+/// trained on. The best try, feasible first, then lowest objective, is
+/// stretched and checked once more by the exact model (kept as it was if
+/// the stretch does not do better); [`SurfaceMatched::last_checked`] has
+/// that check, so a caller need not evaluate it again.
 #[derive(Clone)]
 pub struct SurfaceMatched<P> {
     inner: P,
     cfg: Config,
     scratch: CarveBuffer,
+    /// The record of the last try, for retiming.
+    work: RetimeWork,
     tries: usize,
     /// The range of H the network was trained on \[m\]: H stays inside it.
     surface: [f64; 2],
@@ -169,7 +175,11 @@ pub struct Checked {
     pub params: DigParams,
     /// On the real surface, without a design guard.
     pub assessment: Assessment,
-    /// Its duration was stretched to meet a speed, acceleration or power limit.
+    /// The stretch k of its time that retiming applied to the network's
+    /// answer (1: none).
+    pub stretch: f64,
+    /// The answer broke a limit of speed, acceleration, torque, power or
+    /// duration, and the stretch met it.
     pub stretched: bool,
 }
 
@@ -179,6 +189,17 @@ impl<P> core::fmt::Debug for SurfaceMatched<P> {
             .field("tries", &self.tries)
             .finish()
     }
+}
+
+/// One try of [`SurfaceMatched`]: the answer, its assessment, the stretch
+/// found on its record, and how it ranks (feasible first, then lowest
+/// objective, as the stretch would make it).
+#[derive(Clone, Copy)]
+struct Try {
+    y: DigParams,
+    assessment: Assessment,
+    stretch: Option<Stretch>,
+    key: (bool, f64),
 }
 
 /// The volume aimed at, as a fraction of V_max (V_max itself is a limit).
@@ -213,6 +234,7 @@ impl<P> SurfaceMatched<P> {
             inner,
             cfg: *cfg,
             scratch: CarveBuffer::default(),
+            work: RetimeWork::default(),
             tries,
             surface: ranges.surface,
             last: None,
@@ -223,37 +245,6 @@ impl<P> SurfaceMatched<P> {
     /// the model rejected every try).
     pub fn last_checked(&self) -> Option<&Checked> {
         self.last.as_ref()
-    }
-
-    /// `y` assessed, and if it breaks a speed, acceleration or power
-    /// limit, with its duration stretched to meet them: the better of the two.
-    fn assess_rescaled(
-        &mut self,
-        task: &DigTask,
-        y: DigParams,
-        ground: Ground<'_>,
-    ) -> Result<Checked, Error> {
-        let a = assess(&self.cfg, task, &y, ground, &mut self.scratch, None)?;
-        let as_is = Checked {
-            params: y,
-            assessment: a,
-            stretched: false,
-        };
-        let z = match stretched(&self.cfg, &y, &a.report) {
-            Some(z) if !a.feasible => z,
-            _ => return Ok(as_is),
-        };
-        let b = assess(&self.cfg, task, &z, ground, &mut self.scratch, None)?;
-        let better = (b.feasible, -b.report.objective) > (a.feasible, -a.report.objective);
-        Ok(if better {
-            Checked {
-                params: z,
-                assessment: b,
-                stretched: true,
-            }
-        } else {
-            as_is
-        })
     }
 }
 
@@ -270,19 +261,35 @@ impl<P: DigPredictor> DigPredictor for SurfaceMatched<P> {
         let mut q = *query;
         self.last = None;
         let mut first = None;
+        let mut best: Option<Try> = None;
         let mut previous: Option<(f64, f64)> = None;
         for _ in 0..self.tries {
             let y = self.inner.predict(&q, ground)?;
             first.get_or_insert(y);
-            let Ok(c) = self.assess_rescaled(&task, y, ground) else {
+            let Ok((a, stretch)) = best_stretch(
+                &self.cfg,
+                &task,
+                &y,
+                ground,
+                &mut self.scratch,
+                None,
+                &mut self.work,
+            ) else {
                 // The model rejects this answer outright; the caller's
                 // check says why if it is the only one.
                 break;
             };
-            let a = c.assessment;
-            let key = |a: &Assessment| (a.feasible, -a.report.objective);
-            if self.last.is_none_or(|b| key(&b.assessment) < key(&a)) {
-                self.last = Some(c);
+            let key = match stretch {
+                Some(s) => (true, -s.objective),
+                None => (a.feasible, -a.report.objective),
+            };
+            if best.is_none_or(|b| b.key < key) {
+                best = Some(Try {
+                    y,
+                    assessment: a,
+                    stretch,
+                    key,
+                });
             }
             let (h, v) = (q.surface, a.report.volume);
             if (v - aim).abs() <= MATCH_TOLERANCE * v_max {
@@ -303,8 +310,35 @@ impl<P: DigPredictor> DigPredictor for SurfaceMatched<P> {
                 break;
             }
         }
-        Ok(self
-            .last
-            .map_or_else(|| first.expect("at least one try"), |c| c.params))
+        let Some(Try {
+            y,
+            assessment: a,
+            stretch,
+            ..
+        }) = best
+        else {
+            return Ok(first.expect("at least one try"));
+        };
+        let mut checked = Checked {
+            params: y,
+            assessment: a,
+            stretch: 1.0,
+            stretched: false,
+        };
+        if let Some(s) = stretch {
+            let z = rescale(&y, s.k);
+            if let Ok(b) = assess(&self.cfg, &task, &z, ground, &mut self.scratch, None)
+                && (b.feasible, -b.report.objective) > (a.feasible, -a.report.objective)
+            {
+                checked = Checked {
+                    params: z,
+                    assessment: b,
+                    stretch: s.k,
+                    stretched: !a.feasible,
+                };
+            }
+        }
+        self.last = Some(checked);
+        Ok(checked.params)
     }
 }

@@ -24,8 +24,9 @@
 #![allow(clippy::result_large_err)]
 
 use crate::config::Config;
-use crate::dig::{Check, DigReport, DigTask, Ground, evaluate_with};
+use crate::dig::{Check, DigReport, DigTask, Ground, Sample, evaluate_framed};
 use crate::error::Error;
+use crate::kinematics::LinkFrames;
 use crate::terrain::CarveBuffer;
 use crate::trajectory::DigParams;
 use crate::trench::DesignProfile;
@@ -173,10 +174,24 @@ pub fn assess(
     scratch: &mut CarveBuffer,
     guard: Option<&DesignGuard>,
 ) -> Result<Assessment, Error> {
+    assess_framed(cfg, task, params, ground, scratch, guard, |_, _| {})
+}
+
+/// [`assess`], handing `on_sample` every sample and its link frames.
+pub(crate) fn assess_framed(
+    cfg: &Config,
+    task: &DigTask,
+    params: &DigParams,
+    ground: Ground<'_>,
+    scratch: &mut CarveBuffer,
+    guard: Option<&DesignGuard>,
+    mut on_sample: impl FnMut(&Sample, &LinkFrames),
+) -> Result<Assessment, Error> {
     let mut over = OverDig::default();
     let mut prev: Option<([f64; 2], f64)> = None;
     let terrain = ground.terrain;
-    let report = evaluate_with(cfg, task, params, ground, scratch, |s| {
+    let report = evaluate_framed(cfg, task, params, ground, scratch, |s, frames| {
+        on_sample(s, frames);
         let Some(g) = guard else { return };
         // New cut below the design: max(0, min(design, surface) − y).
         let x = s.tip[0];

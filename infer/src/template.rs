@@ -31,6 +31,7 @@ use crate::math::deg;
 use crate::planner::{PlanError, PlannedDig, Planner};
 use crate::query::DigQuery;
 use crate::repair::{Assessment, DesignGuard, Outcome, assess};
+use crate::retime::{RetimeWork, best_stretch};
 use crate::terrain::{CarveBuffer, Terrain};
 use crate::trajectory::DigParams;
 use crate::trench::{DesignProfile, ProfileMetrics, TaskError, TrenchTask};
@@ -281,6 +282,12 @@ pub struct TemplateSettings {
     /// A refit ends when every step is below this fraction of its
     /// variable's range.
     pub min_step: f64,
+    /// Retime the plan's digs at the end ([`crate::retime`]): each one's T
+    /// alone changes (its bends, and so its path and carving, stay), to
+    /// the lowest dig objective under every limit; kept if the replayed
+    /// plan holds every limit and its profile is no worse. Two evaluations
+    /// per dig, within `max_evaluations`.
+    pub retime: bool,
 }
 
 impl Default for TemplateSettings {
@@ -291,6 +298,7 @@ impl Default for TemplateSettings {
             weight_objective: 0.0,
             seed_share: 0.5,
             min_step: 1e-3,
+            retime: true,
         }
     }
 }
@@ -379,7 +387,7 @@ struct Played {
 }
 
 /// The working memory of template planning, reusable across tasks (about
-/// 180 kB: keep it off small stacks, e.g. in a `Box` or a static).
+/// 260 kB: keep it off small stacks, e.g. in a `Box` or a static).
 pub struct TemplateWork {
     best: Played,
     candidate: Played,
@@ -393,6 +401,9 @@ pub struct TemplateWork {
     task: TrenchTask,
     evaluations: usize,
     dig_evaluations: [usize; MAX_TEMPLATE_DIGS],
+    /// The stretch retiming gave each dig of the last plan (1: none).
+    stretch: [f64; MAX_TEMPLATE_DIGS],
+    retime: RetimeWork,
     /// Digs of the last plan if it succeeded, else 0.
     planned: usize,
     seed: usize,
@@ -433,6 +444,8 @@ impl TemplateWork {
             task,
             evaluations: 0,
             dig_evaluations: [0; MAX_TEMPLATE_DIGS],
+            stretch: [1.0; MAX_TEMPLATE_DIGS],
+            retime: RetimeWork::default(),
             planned: 0,
             seed: 0,
         })
@@ -541,6 +554,7 @@ impl TemplateWork {
         self.guard = planner.guard(&self.design);
         self.evaluations = 0;
         self.dig_evaluations = [0; MAX_TEMPLATE_DIGS];
+        self.stretch = [1.0; MAX_TEMPLATE_DIGS];
         self.terrain = planner.initial_terrain(&self.design)?;
         let t = &self.terrain;
         let j0 = ((self.design.near_edge - WINDOW_BEFORE - t.x0()) / t.dx()).max(0.0) as usize;
@@ -575,8 +589,10 @@ impl TemplateWork {
         // a seed is the plan.
         let near = nearest(templates, task, expected, settings.neighbours);
         let seeds = near.iter().flatten().count();
-        // What the last stage needs: the best seed's replay and the fallback's.
-        let last = 2 * MAX_TEMPLATE_DIGS;
+        // What the last stage needs: the best seed's replay and the
+        // fallback's, and retiming's record and replay.
+        let retiming = if settings.retime { 2 } else { 0 };
+        let last = (2 + retiming) * MAX_TEMPLATE_DIGS;
         let shared = settings.seed_share * (settings.max_evaluations - last) as f64;
         let per_seed = (shared / seeds as f64) as usize;
         let mut champion: Option<(Champion, Steps)> = None;
@@ -605,22 +621,75 @@ impl TemplateWork {
         }
         let (c, step) = champion.ok_or(PlanError::NoTemplate)?;
         self.replay(planner, &c, settings);
-        // Kept back for the fallback's replay.
+        // Kept back for the fallback's replay, and for retiming.
         let n = self.best.count;
         self.refit(
             planner,
             &lo,
             &hi,
             step,
-            settings.max_evaluations - n,
+            settings.max_evaluations - (1 + retiming) * n,
             settings,
         );
         if let Some(f) = fallback.filter(|_| self.best.violation > 0.0) {
             self.replay(planner, &f, settings);
         }
         self.check(planner)?;
+        if settings.retime {
+            self.retime(planner, settings);
+        }
         self.planned = self.best.count;
         Ok(())
+    }
+
+    /// Retimes the best sequence's digs (see [`TemplateSettings::retime`]);
+    /// one recorded evaluation per dig, then the replay of the whole plan.
+    fn retime(&mut self, planner: &Planner, settings: &TemplateSettings) {
+        let cfg = planner.config();
+        let n = self.best.count;
+        let mut vars = self.best.vars;
+        let mut stretch = [1.0; MAX_TEMPLATE_DIGS];
+        for j in 0..n {
+            self.load(Side::Best, j);
+            let Some(dig) = decode(&vars[j], &self.terrain) else {
+                continue;
+            };
+            let Ok(query) = DigQuery::from_poses(cfg, &dig.start, &dig.end, dig.start.y, dig.kind)
+            else {
+                continue;
+            };
+            let ground = Ground {
+                terrain: &self.terrain,
+                base_x: 0.0,
+            };
+            self.evaluations += 1;
+            self.dig_evaluations[j] += 1;
+            let found = best_stretch(
+                cfg,
+                &query.task(),
+                &dig.params,
+                ground,
+                &mut self.carve,
+                Some(&self.guard),
+                &mut self.retime,
+            );
+            if let Ok((_, Some(s))) = found {
+                vars[j][9] = dig.params.duration * s.k;
+                stretch[j] = s.k;
+            }
+        }
+        if stretch[..n].iter().all(|&k| k == 1.0) {
+            return;
+        }
+        self.candidate.count = n;
+        self.candidate.vars = vars;
+        self.play(planner, 0, settings.weight_objective);
+        // The same paths carve the same profile, but for rounding.
+        let c = &self.candidate;
+        if c.violation == 0.0 && c.value <= self.best.value + PROFILE_ROUNDING {
+            core::mem::swap(&mut self.best, &mut self.candidate);
+            self.stretch = stretch;
+        }
     }
 
     /// Makes `c` the best sequence again.
@@ -789,10 +858,15 @@ impl TemplateWork {
             evaluations: self.dig_evaluations[i],
             report: a.report,
             over_dig: a.over_dig,
+            stretch: self.stretch[i],
         };
         Some((planned, &self.terrain))
     }
 }
+
+/// How much worse (as a fraction of the design area) a retimed plan's
+/// profile may come out through rounding alone.
+const PROFILE_ROUNDING: f64 = 1e-9;
 
 /// Which sequence of the work.
 #[derive(Clone, Copy)]

@@ -617,7 +617,8 @@ fn an_evaluation_bound_holds_for_every_dig() {
 
 /// On ground earlier digs carved, the networks (which see a flat surface
 /// at H) under-fill; asked again with H moved, the dig fills the bucket,
-/// scores better, and the asking allocates nothing.
+/// scores better (a fuller bucket, or the same dig retimed), and the
+/// asking allocates nothing.
 #[test]
 fn surface_matching_fills_the_bucket_on_carved_ground() {
     let (down, back) = (shipped(DigType::Downward), shipped(DigType::Backward));
@@ -654,6 +655,7 @@ fn surface_matching_fills_the_bucket_on_carved_ground() {
         let again = score(y);
         // The check it keeps is the answer's own.
         let c = matched.last_checked().expect("checked");
+        let stretch = c.stretch;
         assert_eq!(c.params, y);
         assert_eq!(
             (
@@ -672,8 +674,8 @@ fn surface_matching_fills_the_bucket_on_carved_ground() {
             if again.2 < first.2 - 0.01 {
                 gains += 1;
                 assert!(
-                    again.1 > first.1,
-                    "the gain is in the fill: {first:?} → {again:?}"
+                    again.1 > first.1 || (stretch < 1.0 && again.1 >= first.1),
+                    "the gain is in the fill or the time: {first:?} → {again:?}, stretch {stretch}"
                 );
             }
         }

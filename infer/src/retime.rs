@@ -1,0 +1,300 @@
+//! The best uniform time scaling of a dig.
+//!
+//! Stretching a dig's time by k ([`rescale`]: T' = k T, a_i6' = a_i6 / k⁶)
+//! keeps its path in joint space, so its carving, volume, dig angle, joint
+//! ranges and cut below a design stay as they are, while joint speeds scale
+//! by 1/k and accelerations by 1/k². Each joint torque splits into a motion
+//! part, linear in q̈ and quadratic in q̇, which scales by 1/k², and a static
+//! part (gravity on the arm and its load, the tip's resistance, which
+//! depends on depth and the direction of motion only), which does not
+//! change. One evaluation that records both parts at every sample therefore
+//! gives the torque, power, energy and objective of the dig at any k. The
+//! best k under every limit is searched on that record, and the stretched
+//! dig is checked once with the exact model.
+//!
+//! An optimiser's answer already sits at its best k: a stretch is a move
+//! within the dig family. A network's answer, or a dig that a trench
+//! planner shaped for the design with no regard for time, usually does not.
+
+use crate::config::Config;
+use crate::dig::{DigReport, DigTask, Ground, Quantity};
+use crate::dynamics::static_torque;
+use crate::error::Error;
+use crate::repair::{Assessment, DesignGuard, assess, assess_framed, rescale};
+use crate::terrain::CarveBuffer;
+use crate::trajectory::DigParams;
+
+/// Finest time grid a [`RetimeWork`] records ([`Config::time_samples`]);
+/// digs on finer grids are not retimed.
+pub const MAX_RETIME_SAMPLES: usize = 513;
+
+/// Limits are aimed at this fraction inside their bounds, so the rounding
+/// between the record's prediction and the exact check cannot cross them.
+const SAFETY: f64 = 1e-7;
+/// Stretches tried evenly over the allowed range before the golden search.
+const SCAN: usize = 5;
+/// Where the objective is probed just above the fastest allowed stretch,
+/// as a fraction of a scan step.
+const RISE: f64 = 1e-3;
+/// Golden-section steps between the best scanned stretch's neighbours
+/// (the bracket shrinks to 0.618²⁰ ≈ 7·10⁻⁵ of two scan steps).
+const GOLDEN: usize = 20;
+
+/// One sample of the record: torque = motion / k² + fixed.
+#[derive(Debug, Clone, Copy, Default)]
+struct Record {
+    motion: [f64; 3],
+    fixed: [f64; 3],
+    /// |q̇_i| at k = 1.
+    speed: [f64; 3],
+}
+
+/// The per-sample record of the dig being retimed (about 37 kB; callers
+/// own it, so retiming never allocates).
+#[derive(Clone)]
+pub struct RetimeWork {
+    records: [Record; MAX_RETIME_SAMPLES],
+}
+
+impl Default for RetimeWork {
+    fn default() -> Self {
+        RetimeWork {
+            records: [Record::default(); MAX_RETIME_SAMPLES],
+        }
+    }
+}
+
+impl core::fmt::Debug for RetimeWork {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str("RetimeWork")
+    }
+}
+
+/// A dig after retiming.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Retimed {
+    pub params: DigParams,
+    /// Its exact assessment; its carving is in the caller's scratch buffer.
+    pub assessment: Assessment,
+    /// The stretch k applied (1 when the dig was kept as it was).
+    pub stretch: f64,
+    /// Exact evaluations spent (2 when stretched, 1 or 3 when kept).
+    pub evaluations: usize,
+}
+
+/// The best stretch found on the record, and the objective it predicts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stretch {
+    pub k: f64,
+    pub objective: f64,
+}
+
+/// `params` stretched to the k of lowest objective that keeps every limit
+/// (and the guard, if any), checked by the exact model; `params` itself
+/// when no stretch does better. The returned dig's carving is left in
+/// `scratch`.
+pub fn retime(
+    cfg: &Config,
+    task: &DigTask,
+    params: &DigParams,
+    ground: Ground<'_>,
+    scratch: &mut CarveBuffer,
+    guard: Option<&DesignGuard>,
+    work: &mut RetimeWork,
+) -> Result<Retimed, Error> {
+    let (original, best) = best_stretch(cfg, task, params, ground, scratch, guard, work)?;
+    let kept = |evaluations| Retimed {
+        params: *params,
+        assessment: original,
+        stretch: 1.0,
+        evaluations,
+    };
+    let Some(best) = best else {
+        return Ok(kept(1));
+    };
+    let stretched = rescale(params, best.k);
+    let a = assess(cfg, task, &stretched, ground, scratch, guard)?;
+    let key = |a: &Assessment| (a.feasible, -a.report.objective);
+    if key(&a) > key(&original) {
+        return Ok(Retimed {
+            params: stretched,
+            assessment: a,
+            stretch: best.k,
+            evaluations: 2,
+        });
+    }
+    // Rounding broke a limit after all: restore the original's carving.
+    let restored = assess(cfg, task, params, ground, scratch, guard)?;
+    Ok(Retimed {
+        assessment: restored,
+        ..kept(3)
+    })
+}
+
+/// Evaluates `params` (its carving left in `scratch`), recording it, and
+/// searches the record for the best stretch: the assessment at k = 1 and
+/// the stretch, `None` when none is predicted to do better (or the time
+/// grid is finer than [`MAX_RETIME_SAMPLES`]).
+pub fn best_stretch(
+    cfg: &Config,
+    task: &DigTask,
+    params: &DigParams,
+    ground: Ground<'_>,
+    scratch: &mut CarveBuffer,
+    guard: Option<&DesignGuard>,
+    work: &mut RetimeWork,
+) -> Result<(Assessment, Option<Stretch>), Error> {
+    let n = cfg.time_samples;
+    if n > MAX_RETIME_SAMPLES {
+        return Ok((assess(cfg, task, params, ground, scratch, guard)?, None));
+    }
+    let m = &cfg.machine;
+    let mut k = 0;
+    let a = assess_framed(cfg, task, params, ground, scratch, guard, |s, frames| {
+        let load = cfg.soil.density * s.volume;
+        let fixed = static_torque(m, frames, load, s.force);
+        work.records[k] = Record {
+            motion: core::array::from_fn(|i| s.torque[i] - fixed[i]),
+            fixed,
+            speed: s.joints.qd.map(f64::abs),
+        };
+        k += 1;
+    })?;
+    let stretch = if stretchable(&a, guard) {
+        search(cfg, &a, params.duration, &work.records[..n])
+    } else {
+        None
+    };
+    Ok((a, stretch))
+}
+
+/// Whether a stretch can help: the limits it cannot change (joint angles,
+/// dig angle, volume, the guard) must hold already.
+fn stretchable(a: &Assessment, guard: Option<&DesignGuard>) -> bool {
+    let fixed_ok = a.report.checks.iter().all(|c| {
+        c.ok()
+            || matches!(
+                c.quantity,
+                Quantity::JointSpeed
+                    | Quantity::JointAccel
+                    | Quantity::JointTorque
+                    | Quantity::Power
+                    | Quantity::Duration
+            )
+    });
+    fixed_ok && guard.is_none_or(|g| g.violation(&a.over_dig) == 0.0)
+}
+
+/// The best stretch on the record, if it predicts a lower objective than
+/// the dig has (or makes an infeasible dig feasible).
+fn search(cfg: &Config, a: &Assessment, duration: f64, records: &[Record]) -> Option<Stretch> {
+    let m = &cfg.machine;
+    let r = &a.report;
+    let [t_min, t_max] = cfg.objective.duration;
+    let inside = 1.0 - SAFETY;
+    // Speeds and accelerations bound k from below exactly.
+    let mut lo = t_min * (1.0 + SAFETY) / duration;
+    for i in 0..3 {
+        lo = lo.max(r.peak_speed[i] / (m.max_speed[i] * inside));
+        lo = lo.max(libm::sqrt(r.peak_accel[i] / (m.max_accel[i] * inside)));
+    }
+    let hi = t_max * inside / duration;
+    if lo.is_nan() || lo > hi {
+        return None;
+    }
+    let at = |k: f64| predict(cfg, r, duration, records, k);
+    // A scan, then a golden-section search between the best point's
+    // neighbours, unless the best is the fastest stretch the speed and
+    // acceleration limits allow and the objective rises from there (the
+    // usual case: there, time saved outweighs the energy it costs).
+    let step = (hi - lo) / (SCAN - 1) as f64;
+    let scanned = (0..SCAN).map(|j| {
+        let k = if j == SCAN - 1 {
+            hi
+        } else {
+            lo + j as f64 * step
+        };
+        (k, at(k))
+    });
+    let (k0, f0) = scanned.fold(
+        (lo, f64::INFINITY),
+        |b, (k, f)| if f < b.1 { (k, f) } else { b },
+    );
+    if !f0.is_finite() {
+        return None;
+    }
+    let rises = k0 == lo && at(lo + RISE * step) >= f0;
+    let best = if rises || step == 0.0 {
+        (k0, f0)
+    } else {
+        golden(&at, (k0 - step).max(lo), (k0 + step).min(hi), (k0, f0))
+    };
+    let better = !a.feasible || best.1 < r.objective;
+    better.then_some(Stretch {
+        k: best.0,
+        objective: best.1,
+    })
+}
+
+/// The lowest of `at` found by golden-section steps on [a, b], or `best`.
+fn golden(at: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, best: (f64, f64)) -> (f64, f64) {
+    let g = 0.5 * (libm::sqrt(5.0) - 1.0);
+    let mut c = b - g * (b - a);
+    let mut d = a + g * (b - a);
+    let (mut fc, mut fd) = (at(c), at(d));
+    for _ in 0..GOLDEN {
+        if fc <= fd {
+            b = d;
+            d = c;
+            fd = fc;
+            c = b - g * (b - a);
+            fc = at(c);
+        } else {
+            a = c;
+            c = d;
+            fc = fd;
+            d = a + g * (b - a);
+            fd = at(d);
+        }
+    }
+    [(c, fc), (d, fd)]
+        .into_iter()
+        .fold(best, |b, p| if p.1 < b.1 { p } else { b })
+}
+
+/// The objective the record predicts at stretch `k`, or infinity when a
+/// torque or power limit would break.
+fn predict(cfg: &Config, r: &DigReport, duration: f64, records: &[Record], k: f64) -> f64 {
+    let m = &cfg.machine;
+    let obj = &cfg.objective;
+    let x = 1.0 / (k * k);
+    let inside = 1.0 - SAFETY;
+    let (max_torque, max_h) = (m.max_torque * inside, m.max_power * inside * k);
+    let dt = duration / (records.len() - 1) as f64;
+    let (mut energy, mut prev) = (0.0, 0.0);
+    for (j, s) in records.iter().enumerate() {
+        // h = Σ |τ_i θ̇_i| at k = 1 speeds: the power at k is h / k, and
+        // the energy Σ ½ (h + h') dt, as the stretched time step cancels 1/k.
+        let mut h = 0.0;
+        for i in 0..3 {
+            let tau = s.motion[i] * x + s.fixed[i];
+            if tau.abs() > max_torque {
+                return f64::INFINITY;
+            }
+            h += (tau * s.speed[i]).abs();
+        }
+        if h > max_h {
+            return f64::INFINITY;
+        }
+        if j > 0 {
+            energy += 0.5 * (prev + h) * dt;
+        }
+        prev = h;
+    }
+    let terms = [
+        (duration * k - obj.duration[0]) / (obj.duration[1] - obj.duration[0]),
+        (energy / 3600.0 - obj.energy_wh[0]) / (obj.energy_wh[1] - obj.energy_wh[0]),
+        r.objective_terms[2],
+    ];
+    obj.weights[0] * terms[0] + obj.weights[1] * terms[1] + obj.weights[2] * terms[2]
+}

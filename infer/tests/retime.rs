@@ -1,0 +1,168 @@
+//! Retiming: the record's predictions against the exact model, and what
+//! retiming may and may not do to a dig.
+
+mod common;
+use common::{REFERENCE_Y, flat, reference_query, shipped};
+use infer::repair::{assess, rescale};
+use infer::retime::{RetimeWork, best_stretch, retime};
+use infer::{CarveBuffer, Config, DigParams, DigQuery, Ground, QueryRanges, Terrain};
+use proptest::prelude::*;
+
+fn ground(terrain: &Terrain) -> Ground<'_> {
+    Ground {
+        terrain,
+        base_x: 0.0,
+    }
+}
+
+#[test]
+fn the_predicted_objective_is_the_exact_one_at_the_stretch_found() {
+    let cfg = Config::default();
+    let q = reference_query(&cfg);
+    let terrain = flat(&cfg, q.surface);
+    let mut work = Box::new(RetimeWork::default());
+    let mut buf = CarveBuffer::default();
+    // Slower and faster copies of the reference dig, the fast ones breaking
+    // the speed and acceleration limits.
+    for k in [0.6, 0.8, 1.1, 1.3] {
+        let y = rescale(&DigParams::from_array(REFERENCE_Y), k);
+        let (a, s) = best_stretch(
+            &cfg,
+            &q.task(),
+            &y,
+            ground(&terrain),
+            &mut buf,
+            None,
+            &mut work,
+        )
+        .unwrap();
+        let s = s.unwrap_or_else(|| panic!("k {k}: no stretch found"));
+        let z = rescale(&y, s.k);
+        let exact = assess(&cfg, &q.task(), &z, ground(&terrain), &mut buf, None).unwrap();
+        assert!(
+            exact.feasible,
+            "k {k}: {:?}",
+            exact.report.worst_violation()
+        );
+        assert!(
+            (exact.report.objective - s.objective).abs() < 1e-9,
+            "k {k}: predicted {} exact {}",
+            s.objective,
+            exact.report.objective
+        );
+        assert!(!a.feasible || s.objective < a.report.objective);
+        // The path is the same: so are the volume and the dig angle.
+        assert!((exact.report.volume - a.report.volume).abs() < 1e-12);
+        assert!((exact.report.dig_angle - a.report.dig_angle).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn an_optimised_dig_is_at_its_best_stretch_already() {
+    let cfg = Config::default();
+    let q = reference_query(&cfg);
+    let terrain = flat(&cfg, q.surface);
+    let y = DigParams::from_array(REFERENCE_Y);
+    let mut buf = CarveBuffer::default();
+    let r = retime(
+        &cfg,
+        &q.task(),
+        &y,
+        ground(&terrain),
+        &mut buf,
+        None,
+        &mut Box::new(RetimeWork::default()),
+    )
+    .unwrap();
+    let before = assess(&cfg, &q.task(), &y, ground(&terrain), &mut buf, None).unwrap();
+    assert!(r.assessment.feasible);
+    assert!(r.assessment.report.objective <= before.report.objective);
+    // Within 1 % of it: the reference Y was found by a search over all of Y.
+    assert!(
+        r.assessment.report.objective > 0.99 * before.report.objective,
+        "{} vs {}",
+        r.assessment.report.objective,
+        before.report.objective
+    );
+}
+
+#[test]
+fn a_limit_a_stretch_cannot_change_keeps_the_dig_as_it_was() {
+    let cfg = Config::default();
+    let q = reference_query(&cfg);
+    // Ground 10 cm lower: the same path fills too little of the bucket.
+    let terrain = flat(&cfg, q.surface - 0.1);
+    let y = DigParams::from_array(REFERENCE_Y);
+    let mut buf = CarveBuffer::default();
+    let mut work = Box::new(RetimeWork::default());
+    let r = retime(
+        &cfg,
+        &q.task(),
+        &y,
+        ground(&terrain),
+        &mut buf,
+        None,
+        &mut work,
+    )
+    .unwrap();
+    assert!(!r.assessment.feasible);
+    assert_eq!((r.params, r.stretch, r.evaluations), (y, 1.0, 1));
+    // A time grid finer than the record holds is evaluated, not retimed.
+    let fine = Config {
+        time_samples: infer::retime::MAX_RETIME_SAMPLES + 2,
+        ..cfg
+    };
+    let slow = rescale(&y, 1.2);
+    let terrain = flat(&cfg, q.surface);
+    let (a, s) = best_stretch(
+        &fine,
+        &q.task(),
+        &slow,
+        ground(&terrain),
+        &mut buf,
+        None,
+        &mut work,
+    )
+    .unwrap();
+    assert!(a.feasible && s.is_none());
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+    /// Whatever the dig (the shipped network's answer to a random query,
+    /// slowed or sped up), retiming returns a dig at least as good:
+    /// feasible if the dig was, with a lower objective only where the exact
+    /// model says so.
+    #[test]
+    fn retiming_never_makes_a_dig_worse(
+        u in prop::array::uniform6(0.0f64..1.0),
+        downward in any::<bool>(),
+        k in 0.7f64..1.4,
+    ) {
+        let cfg = Config::default();
+        let kind = if downward { infer::DigType::Downward } else { infer::DigType::Backward };
+        let q = QueryRanges::default().query_at(&cfg, kind, u);
+        prop_assume!(q.is_ok(), "unreachable query");
+        let q: DigQuery = q.unwrap();
+        let net = shipped(kind);
+        let y = DigParams::from_array(net.network().unwrap().forward(&q.input()).unwrap());
+        let y = rescale(&y, k);
+        let terrain = flat(&cfg, q.surface);
+        let mut buf = CarveBuffer::default();
+        let before = assess(&cfg, &q.task(), &y, ground(&terrain), &mut buf, None).unwrap();
+        let r = retime(&cfg, &q.task(), &y, ground(&terrain), &mut buf, None, &mut Box::new(RetimeWork::default())).unwrap();
+        let again = assess(&cfg, &q.task(), &r.params, ground(&terrain), &mut CarveBuffer::default(), None).unwrap();
+        prop_assert_eq!(again, r.assessment);
+        if before.feasible {
+            prop_assert!(r.assessment.feasible);
+            prop_assert!(r.assessment.report.objective <= before.report.objective);
+        }
+        if r.stretch == 1.0 {
+            prop_assert_eq!(r.params, y);
+        } else {
+            prop_assert!(r.assessment.feasible);
+            prop_assert!((r.params.duration - y.duration * r.stretch).abs() < 1e-12);
+        }
+    }
+}
