@@ -11,7 +11,7 @@
 //!
 //! On top of it: the trained networks' forward pass from exported weights
 //! ([`network`], no burn), the validation and repair of a predicted dig
-//! ([`repair`]), trenching tasks and their design profile ([`trench`]), and
+//! ([`repair`]), its best time stretch ([`retime`]), trenching tasks and their design profile ([`trench`]), and
 //! the continuous trench planner ([`planner`]: a task becomes a sequence of
 //! feasible digs, each planned on the surface the last one left), the
 //! template planner ([`template`]: whole plans optimised offline, carried
