@@ -175,13 +175,18 @@ fn run(args: Args) -> Result<(), String> {
     for r in &plan.digs {
         let d = &r.dig;
         println!(
-            "  dig {} {:8} {:9} {:4} evaluations  V {:6.0} cm³  T {:5.2} s  W_E {:.4} Wh  θ_p {:5.1}°  objective {:.3}{}",
+            "  dig {} {:8} {:9} {:4} evaluations  V {:6.0} cm³  T {:5.2} s{}  W_E {:.4} Wh  θ_p {:5.1}°  objective {:.3}{}",
             d.index + 1,
             d.kind.name(),
             format!("{:?}", d.outcome).to_lowercase(),
             d.evaluations,
             d.report.volume * 1e6,
             d.report.duration,
+            if d.stretch == 1.0 {
+                String::new()
+            } else {
+                format!(" (retimed ×{:.3})", d.stretch)
+            },
             d.report.energy_wh(),
             d.report.dig_angle.to_degrees(),
             d.report.objective,
