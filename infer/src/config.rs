@@ -114,6 +114,21 @@ impl Default for Objective {
     }
 }
 
+impl Objective {
+    /// The normalised terms [T_t, E_e, V_v] of a dig of duration T \[s\],
+    /// drive energy W_E \[J\] and volume V \[m³\], and λ1 T_t + λ2 E_e + λ3 V_v.
+    #[inline]
+    pub fn of(&self, duration: f64, energy: f64, volume: f64) -> ([f64; 3], f64) {
+        let terms = [
+            (duration - self.duration[0]) / (self.duration[1] - self.duration[0]),
+            (energy / 3600.0 - self.energy_wh[0]) / (self.energy_wh[1] - self.energy_wh[0]),
+            (self.volume[1] - volume) / (self.volume[1] - self.volume[0]),
+        ];
+        let w = &self.weights;
+        (terms, w[0] * terms[0] + w[1] * terms[1] + w[2] * terms[2])
+    }
+}
+
 /// Allowed dig angle θ_p for each dig type (spec §5) \[rad\].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]

@@ -341,13 +341,7 @@ pub(crate) fn evaluate_framed(
     let volume = width * carver.area();
     let dig_angle = dig_angle(cfg, task, &traj);
     let obj = &cfg.objective;
-    let terms = [
-        (big_t - obj.duration[0]) / (obj.duration[1] - obj.duration[0]),
-        (energy / 3600.0 - obj.energy_wh[0]) / (obj.energy_wh[1] - obj.energy_wh[0]),
-        (obj.volume[1] - volume) / (obj.volume[1] - obj.volume[0]),
-    ];
-    let objective =
-        obj.weights[0] * terms[0] + obj.weights[1] * terms[1] + obj.weights[2] * terms[2];
+    let (terms, objective) = obj.of(big_t, energy, volume);
 
     let angle_range = match task.kind {
         DigType::Downward => cfg.dig_angle.downward,

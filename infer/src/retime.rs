@@ -267,7 +267,6 @@ fn golden(at: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, best: (f64, f64)) ->
 /// torque or power limit would break.
 fn predict(cfg: &Config, r: &DigReport, duration: f64, records: &[Record], k: f64) -> f64 {
     let m = &cfg.machine;
-    let obj = &cfg.objective;
     let x = 1.0 / (k * k);
     let inside = 1.0 - SAFETY;
     let (max_torque, max_h) = (m.max_torque * inside, m.max_power * inside * k);
@@ -292,10 +291,5 @@ fn predict(cfg: &Config, r: &DigReport, duration: f64, records: &[Record], k: f6
         }
         prev = h;
     }
-    let terms = [
-        (duration * k - obj.duration[0]) / (obj.duration[1] - obj.duration[0]),
-        (energy / 3600.0 - obj.energy_wh[0]) / (obj.energy_wh[1] - obj.energy_wh[0]),
-        r.objective_terms[2],
-    ];
-    obj.weights[0] * terms[0] + obj.weights[1] * terms[1] + obj.weights[2] * terms[2]
+    cfg.objective.of(duration * k, energy, r.volume).1
 }

@@ -172,6 +172,14 @@ pub fn dig_box(cfg: &Config, design: &DesignProfile) -> (DigVars, DigVars) {
     )
 }
 
+/// The dig that `v` stands for on `terrain` and its query; `None` if its
+/// poses are off the terrain or out of reach.
+fn query_of(cfg: &Config, v: &DigVars, terrain: &Terrain) -> Option<(SequenceDig, DigQuery)> {
+    let dig = decode(v, terrain)?;
+    let query = DigQuery::from_poses(cfg, &dig.start, &dig.end, dig.start.y, dig.kind).ok()?;
+    Some((dig, query))
+}
+
 /// One dig of a sequence played on `terrain`: decoded, evaluated with the
 /// guard and, if the model could evaluate it, its carving left in `carve`.
 /// `None`: its poses are out of reach or off the terrain, or the model
@@ -183,8 +191,7 @@ pub fn play_dig(
     terrain: &Terrain,
     carve: &mut CarveBuffer,
 ) -> Option<(SequenceDig, DigQuery, Assessment)> {
-    let dig = decode(v, terrain)?;
-    let query = DigQuery::from_poses(cfg, &dig.start, &dig.end, dig.start.y, dig.kind).ok()?;
+    let (dig, query) = query_of(cfg, v, terrain)?;
     let ground = Ground {
         terrain,
         base_x: 0.0,
@@ -651,11 +658,7 @@ impl TemplateWork {
         let mut stretch = [1.0; MAX_TEMPLATE_DIGS];
         for j in 0..n {
             self.load(Side::Best, j);
-            let Some(dig) = decode(&vars[j], &self.terrain) else {
-                continue;
-            };
-            let Ok(query) = DigQuery::from_poses(cfg, &dig.start, &dig.end, dig.start.y, dig.kind)
-            else {
+            let Some((dig, query)) = query_of(cfg, &vars[j], &self.terrain) else {
                 continue;
             };
             let ground = Ground {
