@@ -32,9 +32,10 @@ use crate::error::Error;
 use crate::problem::{Individual, Problem, compare_single};
 use crate::rng::OptRng;
 use crate::runner::{Budget, RunResult, Runner, StopReason};
-use infer::repair::{Assessment, DesignGuard, assess};
+use infer::repair::{Assessment, DesignGuard, assess, assess_to_beat};
 use infer::{
-    CarveBuffer, Config, DigParams, DigQuery, DigReport, DigTask, Ground, Sample, Terrain,
+    CarveBuffer, Config, DigParams, DigQuery, DigReport, DigTask, Ground, Reference, Sample,
+    Terrain,
 };
 use serde::{Deserialize, Serialize};
 
@@ -294,6 +295,51 @@ impl Problem for DigProblem {
             (Err(_), _) => {
                 f.fill(f64::INFINITY);
                 EVAL_ERROR_VIOLATION
+            }
+        }
+    }
+
+    fn evaluate_to_beat(
+        &mut self,
+        x: &[f64],
+        f: &mut [f64],
+        reference: &Individual,
+    ) -> Option<f64> {
+        // An evaluation error scores EVAL_ERROR_VIOLATION, which a stopped
+        // evaluation might have reached: stop only for references better.
+        let usable = self.objective == DigObjective::Weighted
+            && reference.violation < EVAL_ERROR_VIOLATION
+            && reference.f[0].is_finite();
+        if !usable {
+            return Some(self.evaluate(x, f));
+        }
+        let ground = Ground {
+            terrain: &self.terrain,
+            base_x: self.base_x,
+        };
+        let reference = Reference {
+            violation: reference.violation,
+            objective: reference.f[0],
+        };
+        let params = Self::to_params(x);
+        let guard = self.guard.as_ref();
+        match assess_to_beat(
+            &self.cfg,
+            &self.task,
+            &params,
+            ground,
+            &mut self.scratch,
+            guard,
+            reference,
+        ) {
+            Ok(Some(a)) => {
+                f[0] = a.report.objective;
+                Some(a.violation)
+            }
+            Ok(None) => None,
+            Err(_) => {
+                f.fill(f64::INFINITY);
+                Some(EVAL_ERROR_VIOLATION)
             }
         }
     }

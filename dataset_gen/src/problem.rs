@@ -25,6 +25,19 @@ pub trait Problem {
     /// `n_objectives()`) and returns the total constraint violation
     /// (0 when feasible, positive otherwise, never NaN).
     fn evaluate(&mut self, x: &[f64], objectives: &mut [f64]) -> f64;
+    /// [`Problem::evaluate`] for a point the caller keeps only if it is no
+    /// worse than `reference` (its violation and first objective) under
+    /// Deb's rules: `None` once `x` is certainly worse, which a problem may
+    /// find out before the evaluation ends. The default never stops early.
+    fn evaluate_to_beat(
+        &mut self,
+        x: &[f64],
+        objectives: &mut [f64],
+        reference: &Individual,
+    ) -> Option<f64> {
+        let _ = reference;
+        Some(self.evaluate(x, objectives))
+    }
     /// A short name for reports.
     fn name(&self) -> String {
         "problem".into()

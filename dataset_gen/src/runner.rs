@@ -85,6 +85,17 @@ impl<'a, P: Problem + ?Sized> Evaluator<'a, P> {
         self.evaluations += 1;
         Individual { x, f, violation }
     }
+
+    /// [`Evaluator::eval`] for a point kept only if it is no worse than
+    /// `reference` under Deb's rules: `None` when the problem found out
+    /// early that it is worse (it still counts as an evaluation).
+    pub fn eval_to_beat(&mut self, x: Vec<f64>, reference: &Individual) -> Option<Individual> {
+        let mut f = vec![0.0; self.n_obj];
+        let v = self.problem.evaluate_to_beat(&x, &mut f, reference);
+        self.evaluations += 1;
+        let violation = sanitize(&mut f, v?);
+        Some(Individual { x, f, violation })
+    }
 }
 
 /// The outcome of one run.

@@ -302,3 +302,81 @@ fn optimiser_predictor_is_seeded_per_call() {
     let bad = AnyAlgorithm::by_name("pso", 0).unwrap();
     assert!(OptimiserPredictor::new(&cfg, bad, 4, 1).is_err());
 }
+
+/// A problem that always evaluates in full (the trait's default
+/// `evaluate_to_beat`), and counts how often its inner one stops early.
+struct Full<'a>(&'a mut DigProblem);
+impl Problem for Full<'_> {
+    fn dim(&self) -> usize {
+        self.0.dim()
+    }
+    fn bounds(&self) -> (&[f64], &[f64]) {
+        self.0.bounds()
+    }
+    fn evaluate(&mut self, x: &[f64], f: &mut [f64]) -> f64 {
+        self.0.evaluate(x, f)
+    }
+}
+
+struct Counting<'a>(&'a mut DigProblem, usize);
+impl Problem for Counting<'_> {
+    fn dim(&self) -> usize {
+        self.0.dim()
+    }
+    fn bounds(&self) -> (&[f64], &[f64]) {
+        self.0.bounds()
+    }
+    fn evaluate(&mut self, x: &[f64], f: &mut [f64]) -> f64 {
+        self.0.evaluate(x, f)
+    }
+    fn evaluate_to_beat(
+        &mut self,
+        x: &[f64],
+        f: &mut [f64],
+        reference: &dataset_gen::problem::Individual,
+    ) -> Option<f64> {
+        let v = self.0.evaluate_to_beat(x, f, reference);
+        self.1 += usize::from(v.is_none());
+        v
+    }
+}
+
+/// PSO stops the evaluation of a candidate that cannot beat its personal
+/// best; every run must still be the one full evaluations give, bit for
+/// bit (answer and history), with and without a design guard.
+#[test]
+fn pso_stopping_hopeless_evaluations_changes_nothing() {
+    let cfg = Config::default();
+    let sampler = QuerySampler::new(cfg, infer::QueryRanges::default());
+    let shallow = infer::TrenchTask::new_deg(0.6, 0.12, 60.0, 60.0);
+    let design = infer::DesignProfile::new(&cfg, &shallow);
+    let guard = infer::repair::DesignGuard {
+        profile: design,
+        max_depth: 0.02,
+        max_area: 0.02 * design.area(),
+    };
+    let alg = AnyAlgorithm::by_name("pso", 20).unwrap();
+    let runner = dataset_gen::runner::Runner::new(Budget::iterations(25), 0);
+    let mut rng = rng_from_seed(11);
+    let mut stopped = 0;
+    for i in 0..4 {
+        let (q, _) = sampler.sample(DigType::ALL[i % 2], &mut rng).unwrap();
+        let mut p =
+            DigProblem::new(&cfg, &q, &DigBounds::default(), DigObjective::Weighted).unwrap();
+        if i >= 2 {
+            p = p.with_guard(guard);
+        }
+        let full = alg
+            .run(&runner, &mut Full(&mut p), &mut rng_from_seed(i as u64))
+            .unwrap();
+        let mut counting = Counting(&mut p, 0);
+        let early = alg
+            .run(&runner, &mut counting, &mut rng_from_seed(i as u64))
+            .unwrap();
+        stopped += counting.1;
+        assert_eq!(early.best, full.best, "query {i}");
+        assert_eq!(early.history, full.history, "query {i}");
+        assert_eq!(early.evaluations, full.evaluations, "query {i}");
+    }
+    assert!(stopped > 100, "{stopped} evaluations stopped early");
+}

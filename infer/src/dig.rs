@@ -239,19 +239,89 @@ pub fn evaluate_with(
     scratch: &mut CarveBuffer,
     mut on_sample: impl FnMut(&Sample),
 ) -> Result<DigReport, Error> {
-    evaluate_framed(cfg, task, params, ground, scratch, |s, _| on_sample(s))
+    walk(
+        cfg,
+        task,
+        params,
+        ground,
+        scratch,
+        |s, _| on_sample(s),
+        None,
+    )?
+    .ok_or(Error::BadConfig {
+        field: "an evaluation without a reference stopped early",
+    })
 }
 
-/// [`evaluate_with`], also handing the hook each sample's link frames (so
-/// a caller can run more dynamics on them without the trigonometry again).
-pub(crate) fn evaluate_framed(
+/// A dig to beat under Deb's rules: a feasible dig (violation 0) beats an
+/// infeasible one, the smaller violation beats the larger, and of two
+/// feasible digs the lower objective wins. An optimiser that keeps a dig
+/// only if it is no worse than a reference (PSO's personal best) needs
+/// nothing more of one that cannot be, so its evaluation may stop there.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Reference {
+    pub violation: f64,
+    pub objective: f64,
+}
+
+/// When [`walk`] may stop: once the dig so far is certainly worse than
+/// `reference`. `extra` gives a lower bound of the violation the caller
+/// adds to the model's checks (a design guard's cut so far), and must only
+/// grow from sample to sample.
+#[derive(Clone, Copy)]
+pub(crate) struct Cutoff<'a> {
+    pub(crate) reference: Reference,
+    pub(crate) extra: &'a dyn Fn() -> f64,
+}
+
+/// How often (in samples) [`walk`] compares its bounds with a cutoff's
+/// reference: often enough to stop soon, rarely enough to cost nothing.
+const CUTOFF_EVERY: usize = 8;
+
+/// The ranges of the per-joint quantities seen so far.
+#[derive(Clone, Copy)]
+struct Ranges {
+    q: [[f64; 2]; 3],
+    qd: [[f64; 2]; 3],
+    qdd: [[f64; 2]; 3],
+    tau: [[f64; 2]; 3],
+}
+
+impl Ranges {
+    #[inline]
+    fn widen(&mut self, js: &JointState, torque: &[f64; 3]) {
+        for (i, &tau) in torque.iter().enumerate() {
+            widen(&mut self.q[i], js.q[i]);
+            widen(&mut self.qd[i], js.qd[i]);
+            widen(&mut self.qdd[i], js.qdd[i]);
+            widen(&mut self.tau[i], tau);
+        }
+    }
+}
+
+/// The evaluation itself, handing the hook each sample's link frames too
+/// (so a caller can run more dynamics on them without the trigonometry
+/// again): `Ok(None)` when `cutoff` stopped it, the carving in `scratch`
+/// then unfinished.
+///
+/// Why stopping is exact: every bound only grows as samples are added.
+/// Joint, speed, acceleration and torque ranges and peak power only widen;
+/// the volume only grows, so V above V_max only gets worse (V below V_min
+/// is left out of the bound); dig angle and T are known from the start;
+/// energy only grows (power ≥ 0), and a dig that could still beat a
+/// feasible reference must end with V ≤ V_max, so its objective is at
+/// least the one with the energy so far and V = V_max. Each of these is a
+/// monotone floating-point expression of the same operands the final
+/// report uses, so "bound > reference" implies "final > reference".
+pub(crate) fn walk(
     cfg: &Config,
     task: &DigTask,
     params: &DigParams,
     ground: Ground<'_>,
     scratch: &mut CarveBuffer,
     mut on_sample: impl FnMut(&Sample, &LinkFrames),
-) -> Result<DigReport, Error> {
+    cutoff: Option<Cutoff<'_>>,
+) -> Result<Option<DigReport>, Error> {
     let m = &cfg.machine;
     check_joint_range(m, &task.start)?;
     check_joint_range(m, &task.end)?;
@@ -262,12 +332,17 @@ pub(crate) fn evaluate_framed(
     let dt = big_t / (n - 1) as f64;
     let width = m.bucket_width;
     let terrain = ground.terrain;
+    let dig_angle = dig_angle(cfg, task, &traj);
+    let obj = &cfg.objective;
 
     let mut carver = Carver::new(terrain, scratch);
-    let mut q_range = [[f64::INFINITY, f64::NEG_INFINITY]; 3];
-    let mut qd_range = q_range;
-    let mut qdd_range = q_range;
-    let mut tau_range = q_range;
+    let empty = [[f64::INFINITY, f64::NEG_INFINITY]; 3];
+    let mut r = Ranges {
+        q: empty,
+        qd: empty,
+        qdd: empty,
+        tau: empty,
+    };
     let mut power_max = 0.0f64;
     let mut energy = 0.0;
     let mut prev_power = 0.0;
@@ -312,12 +387,7 @@ pub(crate) fn evaluate_framed(
             force,
         );
         let power: f64 = (0..3).map(|i| (torque[i] * js.qd[i]).abs()).sum();
-        for i in 0..3 {
-            widen(&mut q_range[i], js.q[i]);
-            widen(&mut qd_range[i], js.qd[i]);
-            widen(&mut qdd_range[i], js.qdd[i]);
-            widen(&mut tau_range[i], torque[i]);
-        }
+        r.widen(&js, &torque);
         power_max = power_max.max(power);
         if k > 0 {
             energy += 0.5 * (prev_power + power) * dt;
@@ -336,13 +406,65 @@ pub(crate) fn evaluate_framed(
             },
             &frames,
         );
+        if let Some(c) = cutoff
+            && k % CUTOFF_EVERY == 0
+        {
+            let [v_min, v_max] = obj.volume;
+            let bound = checks(
+                cfg,
+                task,
+                &r,
+                power_max,
+                dig_angle,
+                volume.max(v_min),
+                big_t,
+            );
+            let violation = bound.iter().map(Check::violation).sum::<f64>() + (c.extra)();
+            let worse = if c.reference.violation > 0.0 {
+                violation > c.reference.violation
+            } else {
+                violation > 0.0 || obj.of(big_t, energy, v_max).1 > c.reference.objective
+            };
+            if worse {
+                return Ok(None);
+            }
+        }
     }
 
     let volume = width * carver.area();
-    let dig_angle = dig_angle(cfg, task, &traj);
-    let obj = &cfg.objective;
     let (terms, objective) = obj.of(big_t, energy, volume);
+    let checks = checks(cfg, task, &r, power_max, dig_angle, volume, big_t);
+    let peak = |r: &[[f64; 2]; 3]| core::array::from_fn(|i| r[i][0].abs().max(r[i][1].abs()));
+    Ok(Some(DigReport {
+        duration: big_t,
+        volume,
+        energy,
+        peak_torque: peak(&r.tau),
+        peak_power: power_max,
+        peak_speed: peak(&r.qd),
+        peak_accel: peak(&r.qdd),
+        dig_angle,
+        objective,
+        objective_terms: terms,
+        lowest_tip: lowest,
+        feasible: checks.iter().all(Check::ok),
+        checks,
+    }))
+}
 
+/// The constraints of spec §6 on the ranges seen, peak power, dig angle,
+/// volume and duration.
+fn checks(
+    cfg: &Config,
+    task: &DigTask,
+    r: &Ranges,
+    power_max: f64,
+    dig_angle: f64,
+    volume: f64,
+    big_t: f64,
+) -> [Check; CHECKS] {
+    let m = &cfg.machine;
+    let obj = &cfg.objective;
     let angle_range = match task.kind {
         DigType::Downward => cfg.dig_angle.downward,
         DigType::Backward => cfg.dig_angle.backward,
@@ -365,32 +487,32 @@ pub(crate) fn evaluate_framed(
         upper: Some(range[1]),
         scale: range[1] - range[0],
     };
-    let checks: [Check; CHECKS] = core::array::from_fn(|c| match c {
+    core::array::from_fn(|c| match c {
         0..=2 => per_joint(
             Quantity::JointAngle,
             c,
-            q_range[c],
+            r.q[c],
             m.joint_min[c],
             m.joint_max[c],
         ),
         3..=5 => per_joint(
             Quantity::JointSpeed,
             c - 3,
-            qd_range[c - 3],
+            r.qd[c - 3],
             -m.max_speed[c - 3],
             m.max_speed[c - 3],
         ),
         6..=8 => per_joint(
             Quantity::JointAccel,
             c - 6,
-            qdd_range[c - 6],
+            r.qdd[c - 6],
             -m.max_accel[c - 6],
             m.max_accel[c - 6],
         ),
         9..=11 => per_joint(
             Quantity::JointTorque,
             c - 9,
-            tau_range[c - 9],
+            r.tau[c - 9],
             -m.max_torque,
             m.max_torque,
         ),
@@ -406,22 +528,6 @@ pub(crate) fn evaluate_framed(
         13 => interval(Quantity::DigAngle, dig_angle, angle_range),
         14 => interval(Quantity::Volume, volume, obj.volume),
         _ => interval(Quantity::Duration, big_t, obj.duration),
-    });
-    let peak = |r: &[[f64; 2]; 3]| core::array::from_fn(|i| r[i][0].abs().max(r[i][1].abs()));
-    Ok(DigReport {
-        duration: big_t,
-        volume,
-        energy,
-        peak_torque: peak(&tau_range),
-        peak_power: power_max,
-        peak_speed: peak(&qd_range),
-        peak_accel: peak(&qdd_range),
-        dig_angle,
-        objective,
-        objective_terms: terms,
-        lowest_tip: lowest,
-        feasible: checks.iter().all(Check::ok),
-        checks,
     })
 }
 

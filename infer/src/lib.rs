@@ -51,7 +51,8 @@ pub mod verify;
 
 pub use config::{Config, DigAngles, Machine, Objective, Soil};
 pub use dig::{
-    Check, DigReport, DigTask, DigType, Ground, Quantity, Sample, evaluate, evaluate_with,
+    Check, DigReport, DigTask, DigType, Ground, Quantity, Reference, Sample, evaluate,
+    evaluate_with,
 };
 pub use error::Error;
 pub use kinematics::{Elbow, Pose, forward, inverse, tip_jacobian};

@@ -24,12 +24,13 @@
 #![allow(clippy::result_large_err)]
 
 use crate::config::Config;
-use crate::dig::{Check, DigReport, DigTask, Ground, Sample, evaluate_framed};
+use crate::dig::{Check, Cutoff, DigReport, DigTask, Ground, Reference, Sample, walk};
 use crate::error::Error;
 use crate::kinematics::LinkFrames;
 use crate::terrain::CarveBuffer;
 use crate::trajectory::DigParams;
 use crate::trench::DesignProfile;
+use core::cell::Cell;
 use serde::{Deserialize, Serialize};
 
 /// How a validated dig came about.
@@ -177,6 +178,33 @@ pub fn assess(
     assess_framed(cfg, task, params, ground, scratch, guard, |_, _| {})
 }
 
+/// [`assess`], but stops as soon as the dig certainly cannot beat
+/// `reference` (Deb's rules on [`Assessment::violation`], then the
+/// objective), and then returns `Ok(None)` with the carving in `scratch`
+/// unfinished. An optimiser that keeps a dig only if it is no worse than
+/// its reference gets the same answers for less work: the bounds that stop
+/// it can only grow (see the proof on `dig::walk`), and so can the guard's cut.
+pub fn assess_to_beat(
+    cfg: &Config,
+    task: &DigTask,
+    params: &DigParams,
+    ground: Ground<'_>,
+    scratch: &mut CarveBuffer,
+    guard: Option<&DesignGuard>,
+    reference: Reference,
+) -> Result<Option<Assessment>, Error> {
+    assess_walk(
+        cfg,
+        task,
+        params,
+        ground,
+        scratch,
+        guard,
+        |_, _| {},
+        Some(reference),
+    )
+}
+
 /// [`assess`], handing `on_sample` every sample and its link frames.
 pub(crate) fn assess_framed(
     cfg: &Config,
@@ -185,31 +213,59 @@ pub(crate) fn assess_framed(
     ground: Ground<'_>,
     scratch: &mut CarveBuffer,
     guard: Option<&DesignGuard>,
-    mut on_sample: impl FnMut(&Sample, &LinkFrames),
+    on_sample: impl FnMut(&Sample, &LinkFrames),
 ) -> Result<Assessment, Error> {
-    let mut over = OverDig::default();
+    assess_walk(cfg, task, params, ground, scratch, guard, on_sample, None)?.ok_or(
+        Error::BadConfig {
+            field: "an assessment without a reference stopped early",
+        },
+    )
+}
+
+#[allow(clippy::too_many_arguments)]
+fn assess_walk(
+    cfg: &Config,
+    task: &DigTask,
+    params: &DigParams,
+    ground: Ground<'_>,
+    scratch: &mut CarveBuffer,
+    guard: Option<&DesignGuard>,
+    mut on_sample: impl FnMut(&Sample, &LinkFrames),
+    reference: Option<Reference>,
+) -> Result<Option<Assessment>, Error> {
+    let over = Cell::new(OverDig::default());
     let mut prev: Option<([f64; 2], f64)> = None;
     let terrain = ground.terrain;
-    let report = evaluate_framed(cfg, task, params, ground, scratch, |s, frames| {
+    let guard_violation = || guard.map_or(0.0, |g| g.violation(&over.get()));
+    let cutoff = reference.map(|reference| Cutoff {
+        reference,
+        extra: &guard_violation,
+    });
+    let hook = |s: &Sample, frames: &LinkFrames| {
         on_sample(s, frames);
         let Some(g) = guard else { return };
         // New cut below the design: max(0, min(design, surface) − y).
         let x = s.tip[0];
         let surface = terrain.height_at(x).unwrap_or(f64::INFINITY);
         let d = (g.profile.height_at(x).min(surface) - s.tip[1]).max(0.0);
-        over.max_depth = over.max_depth.max(d);
+        let mut o = over.get();
+        o.max_depth = o.max_depth.max(d);
         if let Some((p, pd)) = prev {
-            over.area += 0.5 * (pd + d) * (x - p[0]).abs();
+            o.area += 0.5 * (pd + d) * (x - p[0]).abs();
         }
+        over.set(o);
         prev = Some((s.tip, d));
-    })?;
-    let guard_violation = guard.map_or(0.0, |g| g.violation(&over));
-    Ok(Assessment {
+    };
+    let Some(report) = walk(cfg, task, params, ground, scratch, hook, cutoff)? else {
+        return Ok(None);
+    };
+    let guard_violation = guard_violation();
+    Ok(Some(Assessment {
         feasible: report.feasible && guard_violation == 0.0,
         violation: report.total_violation() + guard_violation,
         report,
-        over_dig: over,
-    })
+        over_dig: over.get(),
+    }))
 }
 
 /// `params` with its time stretched by `k`: T' = k T, a_i6' = a_i6 / k⁶

@@ -136,8 +136,7 @@ impl Terrain {
         if !(f >= 0.0 && f <= (self.len - 1) as f64) {
             return None;
         }
-        // f ≥ 0 here, so truncation is floor.
-        let j = (f as usize).min(self.len - 2);
+        let j = node_below(f).min(self.len - 2);
         let w = f - j as f64;
         Some(self.h[j] * (1.0 - w) + self.h[j + 1] * w)
     }
@@ -223,6 +222,16 @@ impl core::fmt::Debug for CarveBuffer {
     }
 }
 
+/// ⌊f⌋ of a grid coordinate f ≥ 0 (a node index). Through i32, which
+/// every grid of [`TERRAIN_CAPACITY`] nodes fits: x86-64 converts to a
+/// signed integer in one instruction, to usize only in several, and this
+/// runs a few times per time sample of every evaluation.
+#[inline]
+fn node_below(f: f64) -> usize {
+    debug_assert!(f >= 0.0);
+    f as i32 as usize
+}
+
 /// A point of a carved path with its grid coordinate (x − x0) / dx.
 #[derive(Clone, Copy, Default)]
 pub(crate) struct GridPoint {
@@ -273,12 +282,11 @@ impl<'a> Carver<'a> {
                 x: if xl < t.x0 { xl } else { xr },
             });
         }
-        // Both offsets are ≥ 0 here, so truncation is floor.
         let j0 = {
-            let j = fl as usize;
+            let j = node_below(fl);
             if (j as f64) < fl { j + 1 } else { j }
         };
-        let j1 = (fr as usize).min(t.len - 1);
+        let j1 = node_below(fr).min(t.len - 1);
         if j0 > j1 {
             return Ok(());
         }

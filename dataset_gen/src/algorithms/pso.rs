@@ -210,7 +210,11 @@ impl Algorithm for Pso {
                 s.x[i][j] = nx;
                 s.v[i][j] = vij;
             }
-            let cand = ev.eval(s.x[i].clone());
+            // Only a candidate no worse than its personal best changes
+            // anything, so its evaluation may stop once it cannot be.
+            let Some(cand) = ev.eval_to_beat(s.x[i].clone(), &s.pbest[i]) else {
+                continue;
+            };
             if better(&cand, &s.pbest[i])
                 || cand.violation == s.pbest[i].violation && cand.f[0] == s.pbest[i].f[0]
             {
