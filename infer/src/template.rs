@@ -24,13 +24,13 @@
 #![allow(clippy::result_large_err)]
 
 use crate::config::Config;
-use crate::dig::{DigType, Ground};
+use crate::dig::{DigType, Ground, Reference};
 use crate::error::Error;
 use crate::kinematics::Pose;
 use crate::math::deg;
 use crate::planner::{PlanError, PlannedDig, Planner};
 use crate::query::DigQuery;
-use crate::repair::{Assessment, DesignGuard, Outcome, assess};
+use crate::repair::{Assessment, DesignGuard, Outcome, assess, assess_to_beat};
 use crate::retime::{RetimeWork, best_stretch};
 use crate::terrain::{CarveBuffer, Terrain};
 use crate::trajectory::DigParams;
@@ -191,14 +191,38 @@ pub fn play_dig(
     terrain: &Terrain,
     carve: &mut CarveBuffer,
 ) -> Option<(SequenceDig, DigQuery, Assessment)> {
+    play_dig_to_beat(cfg, guard, v, terrain, carve, None)
+}
+
+/// [`play_dig`], also `None` once the dig certainly cannot beat `reference`
+/// (its evaluation stops there: [`assess_to_beat`]).
+fn play_dig_to_beat(
+    cfg: &Config,
+    guard: &DesignGuard,
+    v: &DigVars,
+    terrain: &Terrain,
+    carve: &mut CarveBuffer,
+    reference: Option<Reference>,
+) -> Option<(SequenceDig, DigQuery, Assessment)> {
     let (dig, query) = query_of(cfg, v, terrain)?;
     let ground = Ground {
         terrain,
         base_x: 0.0,
     };
-    let a = assess(cfg, &query.task(), &dig.params, ground, carve, Some(guard)).ok()?;
+    let (task, guard) = (query.task(), Some(guard));
+    let a = match reference {
+        None => assess(cfg, &task, &dig.params, ground, carve, guard).ok()?,
+        Some(r) => assess_to_beat(cfg, &task, &dig.params, ground, carve, guard, r).ok()??,
+    };
     Some((dig, query, a))
 }
+
+/// A feasible dig of any objective: what every dig of a candidate must be
+/// to beat a feasible sequence.
+const ANY_FEASIBLE: Reference = Reference {
+    violation: 0.0,
+    objective: f64::INFINITY,
+};
 
 /// A whole-task plan kept as its digs' variables, with the task it was
 /// made for.
@@ -467,7 +491,11 @@ impl TemplateWork {
         self.planned == 0
     }
 
-    /// Exact dig evaluations the last plan spent.
+    /// Exact dig evaluations the last plan charged against
+    /// [`TemplateSettings::max_evaluations`]. A candidate whose replay
+    /// stopped at a dig that breaks a constraint is charged in full, so
+    /// the evaluations actually made (the sum of the plan's per-dig counts)
+    /// can be fewer.
     pub fn evaluations(&self) -> usize {
         self.evaluations
     }
@@ -504,17 +532,33 @@ impl TemplateWork {
     }
 
     /// Plays the candidate's digs from dig `from` on, starting on the
-    /// surface it holds before that dig.
-    fn play(&mut self, planner: &Planner, from: usize, weight_objective: f64) {
+    /// surface it holds before that dig. With `feasible_only` it stops at
+    /// the first dig that breaks a constraint (as soon as that is certain)
+    /// and returns false: such a candidate cannot beat a feasible best.
+    fn play(
+        &mut self,
+        planner: &Planner,
+        from: usize,
+        weight_objective: f64,
+        feasible_only: bool,
+    ) -> bool {
         let cfg = planner.config();
         self.load(Side::Candidate, from);
         let (j0, w) = self.window;
         let p = &mut self.candidate;
         let n = p.count;
+        let reference = feasible_only.then_some(ANY_FEASIBLE);
         for j in from..n {
             self.evaluations += 1;
             self.dig_evaluations[j] += 1;
-            let played = play_dig(cfg, &self.guard, &p.vars[j], &self.terrain, &mut self.carve);
+            let played = play_dig_to_beat(
+                cfg,
+                &self.guard,
+                &p.vars[j],
+                &self.terrain,
+                &mut self.carve,
+                reference,
+            );
             let (lo, carved) = self.carve.window();
             p.score[j] = match played {
                 // A dig that carves outside the window is not kept.
@@ -530,6 +574,12 @@ impl TemplateWork {
                     objective: 0.0,
                 },
             };
+            if feasible_only && p.score[j].violation > 0.0 {
+                // The digs not replayed count against the bound all the
+                // same, so the search is the one full replays make.
+                self.evaluations += n - j - 1;
+                return false;
+            }
             p.after[j + 1][..w].copy_from_slice(&self.terrain.heights()[j0..j0 + w]);
         }
         let m = self.design.compare(&self.terrain);
@@ -538,6 +588,7 @@ impl TemplateWork {
             .fold((0.0, 0.0), |a, s| (a.0 + s.violation, a.1 + s.objective));
         p.violation = violation;
         p.value = m.under_dug + m.over_dug + weight_objective * objective / n as f64;
+        true
     }
 
     /// Plans `task` from the nearest of `templates`: see the module doc.
@@ -610,7 +661,7 @@ impl TemplateWork {
             c.count = t.count;
             c.vars = t.carried_to(cfg, &self.design);
             c.vars[..t.count].iter_mut().for_each(clamp);
-            self.play(planner, 0, settings.weight_objective);
+            self.play(planner, 0, settings.weight_objective, false);
             core::mem::swap(&mut self.best, &mut self.candidate);
             let limit = (rank + 1) * per_seed;
             let first = [initial_step(&lo, &hi); MAX_TEMPLATE_DIGS];
@@ -686,7 +737,7 @@ impl TemplateWork {
         }
         self.candidate.count = n;
         self.candidate.vars = vars;
-        self.play(planner, 0, settings.weight_objective);
+        self.play(planner, 0, settings.weight_objective, false);
         // The same paths carve the same profile, but for rounding.
         let c = &self.candidate;
         if c.violation == 0.0 && c.value <= self.best.value + PROFILE_ROUNDING {
@@ -700,7 +751,7 @@ impl TemplateWork {
         self.seed = c.template;
         self.candidate.count = c.count;
         self.candidate.vars = c.vars;
-        self.play(planner, 0, settings.weight_objective);
+        self.play(planner, 0, settings.weight_objective, false);
         core::mem::swap(&mut self.best, &mut self.candidate);
     }
 
@@ -748,9 +799,13 @@ impl TemplateWork {
                         }
                         self.candidate.score[..j].copy_from_slice(&self.best.score[..j]);
                         self.candidate.after[j] = self.best.after[j];
-                        self.play(planner, j, settings.weight_objective);
+                        let feasible_only = self.best.violation == 0.0;
+                        let played =
+                            self.play(planner, j, settings.weight_objective, feasible_only);
                         let c = &self.candidate;
-                        if better(c.violation, c.value, self.best.violation, self.best.value) {
+                        if played
+                            && better(c.violation, c.value, self.best.violation, self.best.value)
+                        {
                             self.accept(j);
                             steps[j][i] = (2.0 * s).clamp(-first[i], first[i]);
                             gained = true;
