@@ -21,10 +21,10 @@ use crate::rng::{derive_seed, rng_from_seed};
 use crate::runner::{Budget, Runner};
 use infer::plan::{DigRecord, Plan};
 use infer::repair::{Assessment, DesignGuard};
-use infer::template::{DIG_VARS, DigVars, SequenceDig, UNEVALUABLE, dig_box, play_dig};
+use infer::template::{DIG_VARS, DigVars, SequenceDig, UNEVALUABLE, dig_box, play_dig_to_beat};
 use infer::{
-    Config, DesignProfile, DigQuery, Outcome, PlannedDig, Planner, ProfileMetrics, Template,
-    Terrain, TrenchTask,
+    Config, DesignProfile, DigQuery, Outcome, PlannedDig, Planner, ProfileMetrics, Reference,
+    Template, Terrain, TrenchTask,
 };
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -118,13 +118,36 @@ impl<'a> SequenceProblem<'a> {
     fn play(
         &mut self,
         x: &[f64],
-        mut on_dig: impl FnMut(&SequenceDig, &DigQuery, &Assessment, &Terrain),
+        on_dig: impl FnMut(&SequenceDig, &DigQuery, &Assessment, &Terrain),
     ) -> (f64, f64) {
+        self.play_to_beat(x, on_dig, None)
+            .expect("without a reference every dig is played")
+    }
+
+    /// [`Self::play`], but `None` as soon as the sequence certainly has
+    /// more violation than `beat` (the total only grows dig by dig; with
+    /// `beat` 0, at the first dig that certainly breaks a constraint, whose
+    /// evaluation stops there).
+    fn play_to_beat(
+        &mut self,
+        x: &[f64],
+        mut on_dig: impl FnMut(&SequenceDig, &DigQuery, &Assessment, &Terrain),
+        beat: Option<f64>,
+    ) -> Option<(f64, f64)> {
         self.terrain.clone_from(self.start);
+        let reference = beat.filter(|&v| v == 0.0).map(|_| Reference::ANY_FEASIBLE);
         let (mut violation, mut objective) = (0.0, 0.0);
         for v in x.chunks_exact(PER_DIG) {
             let v: &DigVars = v.try_into().expect("chunks of PER_DIG");
-            match play_dig(&self.cfg, &self.guard, v, &self.terrain, &mut self.carve) {
+            let terrain = &self.terrain;
+            match play_dig_to_beat(
+                &self.cfg,
+                &self.guard,
+                v,
+                terrain,
+                &mut self.carve,
+                reference,
+            ) {
                 Some((dig, query, a)) => {
                     violation += a.violation;
                     objective += a.report.objective;
@@ -133,10 +156,13 @@ impl<'a> SequenceProblem<'a> {
                 }
                 None => violation += UNEVALUABLE,
             }
+            if beat.is_some_and(|b| violation > b) {
+                return None;
+            }
         }
         let m = self.design.compare(&self.terrain);
         let f = value(&m, objective / self.digs as f64, self.weight_objective);
-        (f, violation)
+        Some((f, violation))
     }
 }
 
@@ -154,6 +180,20 @@ impl Problem for SequenceProblem<'_> {
         let (value, violation) = self.play(x, |_, _, _, _| {});
         f[0] = value;
         violation
+    }
+    fn evaluate_to_beat(
+        &mut self,
+        x: &[f64],
+        f: &mut [f64],
+        reference: &Individual,
+    ) -> Option<f64> {
+        if let Some(bar) = self.bar {
+            bar.inc(1);
+        }
+        let (value, violation) =
+            self.play_to_beat(x, |_, _, _, _| {}, Some(reference.violation))?;
+        f[0] = value;
+        Some(violation)
     }
     fn name(&self) -> String {
         format!("sequence of {} digs", self.digs)
@@ -182,8 +222,9 @@ fn compass(p: &mut SequenceProblem<'_>, start: Individual, budget: usize) -> (In
                 }
                 let mut x = best.x.clone();
                 x[i] = (x[i] + sign * step[i]).clamp(p.lo[i], p.hi[i]);
-                let violation = p.evaluate(&x, &mut f);
+                let played = p.evaluate_to_beat(&x, &mut f, &best);
                 spent += 1;
+                let Some(violation) = played else { continue };
                 if compare_single(violation, f[0], best.violation, best.f[0]).is_lt() {
                     best = Individual {
                         x,
@@ -406,4 +447,46 @@ pub fn refit_task(
         )));
     }
     Ok(to_plan(planner, task, &mut p, &best.x, spent + 1, clock))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::uniform_in;
+
+    /// Stopping a sequence once it has more violation than a reference
+    /// never changes an answer: a sequence played to the end is the full
+    /// play, and a stopped one has more violation than the reference.
+    #[test]
+    fn a_stopped_sequence_is_worse_and_a_finished_one_is_exact() {
+        let planner = Planner::new(&Config::default(), &Default::default()).unwrap();
+        let task = TrenchTask::new_deg(0.6, 0.12, 60.0, 60.0);
+        let design = DesignProfile::new(planner.config(), &task);
+        let start = planner.initial_terrain(&design).unwrap();
+        let mut p = SequenceProblem::new(&planner, &design, &start, 3, 0.0, None);
+        let mut rng = rng_from_seed(5);
+        let (mut stopped, mut finished) = (0, 0);
+        for i in 0..60 {
+            let x: Vec<f64> = (0..p.dim())
+                .map(|j| uniform_in(&mut rng, p.lo[j], p.hi[j]))
+                .collect();
+            let full = p.play(&x, |_, _, _, _| {});
+            let beat = match i % 3 {
+                0 => 0.0,
+                1 => full.1,
+                _ => full.1 * uniform_in(&mut rng, 0.5, 1.5),
+            };
+            match p.play_to_beat(&x, |_, _, _, _| {}, Some(beat)) {
+                Some(played) => {
+                    assert_eq!(played, full, "sequence {i}");
+                    finished += 1;
+                }
+                None => {
+                    assert!(full.1 > beat, "sequence {i}: {} ≤ {beat}", full.1);
+                    stopped += 1;
+                }
+            }
+        }
+        assert!(stopped > 10 && finished > 10, "{stopped} stopped, {finished} finished");
+    }
 }

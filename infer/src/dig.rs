@@ -264,6 +264,16 @@ pub struct Reference {
     pub objective: f64,
 }
 
+impl Reference {
+    /// A feasible dig of any objective: a dig beats it only by being
+    /// feasible, which every dig of a sequence must be for the sequence to
+    /// beat a feasible one.
+    pub const ANY_FEASIBLE: Reference = Reference {
+        violation: 0.0,
+        objective: f64::INFINITY,
+    };
+}
+
 /// When [`walk`] may stop: once the dig so far is certainly worse than
 /// `reference`. `extra` gives a lower bound of the violation the caller
 /// adds to the model's checks (a design guard's cut so far), and must only

@@ -196,7 +196,7 @@ pub fn play_dig(
 
 /// [`play_dig`], also `None` once the dig certainly cannot beat `reference`
 /// (its evaluation stops there: [`assess_to_beat`]).
-fn play_dig_to_beat(
+pub fn play_dig_to_beat(
     cfg: &Config,
     guard: &DesignGuard,
     v: &DigVars,
@@ -216,13 +216,6 @@ fn play_dig_to_beat(
     };
     Some((dig, query, a))
 }
-
-/// A feasible dig of any objective: what every dig of a candidate must be
-/// to beat a feasible sequence.
-const ANY_FEASIBLE: Reference = Reference {
-    violation: 0.0,
-    objective: f64::INFINITY,
-};
 
 /// A whole-task plan kept as its digs' variables, with the task it was
 /// made for.
@@ -547,7 +540,7 @@ impl TemplateWork {
         let (j0, w) = self.window;
         let p = &mut self.candidate;
         let n = p.count;
-        let reference = feasible_only.then_some(ANY_FEASIBLE);
+        let reference = feasible_only.then_some(Reference::ANY_FEASIBLE);
         for j in from..n {
             self.evaluations += 1;
             self.dig_evaluations[j] += 1;
