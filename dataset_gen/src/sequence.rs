@@ -487,6 +487,9 @@ mod tests {
                 }
             }
         }
-        assert!(stopped > 10 && finished > 10, "{stopped} stopped, {finished} finished");
+        assert!(
+            stopped > 10 && finished > 10,
+            "{stopped} stopped, {finished} finished"
+        );
     }
 }

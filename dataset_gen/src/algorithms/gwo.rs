@@ -183,7 +183,7 @@ impl Algorithm for Gwo {
             .map(|k| s.leaders[k.min(s.leaders.len() - 1)].x.clone())
             .collect();
         let mut evaluated = Vec::with_capacity(s.pack.len());
-        for w in s.pack.iter_mut() {
+        for (k, w) in s.pack.iter_mut().enumerate() {
             for j in 0..d {
                 let (mid, half) = (0.5 * (s.lo[j] + s.hi[j]), 0.5 * (s.hi[j] - s.lo[j]));
                 if half <= 0.0 {
@@ -200,17 +200,30 @@ impl Algorithm for Gwo {
                 }
                 w[j] = (mid + half * sum / 3.0).clamp(s.lo[j], s.hi[j]);
             }
-            evaluated.push(ev.eval(w.clone()));
+            // A move counts only if it beats where the wolf was or δ (the
+            // leaders only get better below), so its evaluation may stop
+            // once it is worse than both.
+            let cand = match s.leaders.get(2) {
+                Some(delta) => {
+                    let worse = if better(&s.at[k], delta) {
+                        delta
+                    } else {
+                        &s.at[k]
+                    };
+                    ev.eval_to_beat(w.clone(), worse)
+                }
+                None => Some(ev.eval(w.clone())),
+            };
+            evaluated.push(cand);
         }
         // Greedy selection: a wolf whose move made it worse goes back.
         for (k, ind) in evaluated.iter().enumerate() {
-            if better(ind, &s.at[k]) {
-                s.at[k] = ind.clone();
-            } else {
-                s.pack[k].clone_from(&s.at[k].x);
+            match ind {
+                Some(ind) if better(ind, &s.at[k]) => s.at[k] = ind.clone(),
+                _ => s.pack[k].clone_from(&s.at[k].x),
             }
         }
-        for ind in &evaluated {
+        for ind in evaluated.iter().flatten() {
             update_leaders(&mut s.leaders, ind);
         }
     }
