@@ -202,6 +202,9 @@ pub struct Throughput {
     pub threads: usize,
     pub elapsed_s: f64,
     pub per_second: f64,
+    /// Evaluations started per second: PSO and GWO stop many of them
+    /// part-way (`infer::repair::assess_to_beat`), so this is not a
+    /// measure of one full evaluation's cost.
     pub evaluations_per_second: f64,
 }
 

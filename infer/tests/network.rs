@@ -127,3 +127,45 @@ fn shipped_networks_load_and_predict() {
         assert!(report.is_ok(), "{kind}: {report:?}");
     }
 }
+
+/// The forward pass written out plainly: one dot product per row, summed
+/// in order.
+fn plain_forward(widths: &[usize], p: &[f64], x: &[f64; 7]) -> [f64; 4] {
+    let mut a: Vec<f64> = (0..7).map(|i| (x[i] - p[i]) / p[7 + i]).collect();
+    let mut offset = 22;
+    for l in 0..widths.len() - 1 {
+        let (n_in, n_out) = (widths[l], widths[l + 1]);
+        let (w, b) = (&p[offset..offset + n_in * n_out], &p[offset + n_in * n_out..]);
+        offset += n_in * n_out + n_out;
+        a = (0..n_out)
+            .map(|o| {
+                let z = b[o] + (0..n_in).map(|i| w[o * n_in + i] * a[i]).sum::<f64>();
+                if l + 2 == widths.len() { z } else { libm::tanh(z) }
+            })
+            .collect();
+    }
+    std::array::from_fn(|i| a[i] * p[18 + i] + p[14 + i])
+}
+
+/// The forward pass sums several rows side by side for speed; each row
+/// must still be the plain dot product, bit for bit, on both shipped
+/// networks and on a layer width that is not a multiple of the rows.
+#[test]
+fn forward_pass_is_the_plain_computation_bit_for_bit() {
+    let mut rng = common::Lcg(99);
+    let (tiny_widths, tiny_params) = tiny();
+    let shipped = DigType::ALL.map(common::shipped);
+    let mut nets: Vec<(Vec<usize>, Vec<f64>)> = shipped
+        .iter()
+        .map(|f| (f.widths.clone(), f.params.clone()))
+        .collect();
+    nets.push((tiny_widths, tiny_params));
+    for (widths, params) in &nets {
+        let net = Network::new(widths, params).unwrap();
+        for _ in 0..500 {
+            let x: [f64; 7] = std::array::from_fn(|_| rng.range(-3.0, 1.0));
+            let (a, b) = (net.forward(&x).unwrap(), plain_forward(widths, params, &x));
+            assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "{widths:?} at {x:?}");
+        }
+    }
+}
