@@ -135,12 +135,19 @@ fn plain_forward(widths: &[usize], p: &[f64], x: &[f64; 7]) -> [f64; 4] {
     let mut offset = 22;
     for l in 0..widths.len() - 1 {
         let (n_in, n_out) = (widths[l], widths[l + 1]);
-        let (w, b) = (&p[offset..offset + n_in * n_out], &p[offset + n_in * n_out..]);
+        let (w, b) = (
+            &p[offset..offset + n_in * n_out],
+            &p[offset + n_in * n_out..],
+        );
         offset += n_in * n_out + n_out;
         a = (0..n_out)
             .map(|o| {
                 let z = b[o] + (0..n_in).map(|i| w[o * n_in + i] * a[i]).sum::<f64>();
-                if l + 2 == widths.len() { z } else { libm::tanh(z) }
+                if l + 2 == widths.len() {
+                    z
+                } else {
+                    libm::tanh(z)
+                }
             })
             .collect();
     }
@@ -165,7 +172,11 @@ fn forward_pass_is_the_plain_computation_bit_for_bit() {
         for _ in 0..500 {
             let x: [f64; 7] = std::array::from_fn(|_| rng.range(-3.0, 1.0));
             let (a, b) = (net.forward(&x).unwrap(), plain_forward(widths, params, &x));
-            assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "{widths:?} at {x:?}");
+            assert_eq!(
+                a.map(f64::to_bits),
+                b.map(f64::to_bits),
+                "{widths:?} at {x:?}"
+            );
         }
     }
 }
