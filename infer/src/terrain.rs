@@ -141,6 +141,21 @@ impl Terrain {
         Some(self.h[j] * (1.0 - w) + self.h[j + 1] * w)
     }
 
+    /// The mean surface height over \[a, b\] (its nodes there, or the height
+    /// at the middle if none lies inside); `None` off the grid.
+    pub fn mean_height(&self, a: f64, b: f64) -> Option<f64> {
+        let (fa, fb) = (self.grid(a), self.grid(b));
+        if !(fa >= 0.0 && fa <= fb && fb <= (self.len - 1) as f64) {
+            return None;
+        }
+        let (j0, j1) = (ceil(fa) as usize, node_below(fb));
+        if j0 > j1 {
+            return self.height_at_grid(0.5 * (fa + fb));
+        }
+        let nodes = &self.h[j0..=j1];
+        Some(nodes.iter().sum::<f64>() / nodes.len() as f64)
+    }
+
     /// Carves the polyline `points` (terrain frame) into the surface and
     /// returns the cross-section area removed \[m²\] (multiply by the bucket
     /// width for the volume).

@@ -59,3 +59,19 @@ fn bad_terrains_are_errors() {
     assert!(Terrain::from_heights(0.0, DX, &[0.0, f64::INFINITY]).is_err());
     assert!(Terrain::from_heights(0.0, DX, &[0.0]).is_err());
 }
+
+#[test]
+fn mean_height_averages_the_nodes_of_a_span_and_refuses_to_leave_the_grid() {
+    // Nodes at x = 0, 0.1, …, 1.0 with heights −x.
+    let heights: Vec<f64> = (0..=10).map(|j| -0.1 * j as f64).collect();
+    let t = Terrain::from_heights(0.0, 0.1, &heights).unwrap();
+    // Nodes 0.2 … 0.6: mean −0.4.
+    assert!((t.mean_height(0.15, 0.65).unwrap() + 0.4).abs() < 1e-12);
+    // No node inside: the height at the middle.
+    assert!((t.mean_height(0.32, 0.38).unwrap() + 0.35).abs() < 1e-12);
+    assert!((t.mean_height(0.0, 1.0).unwrap() + 0.5).abs() < 1e-12);
+    assert_eq!(t.mean_height(-0.1, 0.5), None);
+    assert_eq!(t.mean_height(0.5, 1.2), None);
+    assert_eq!(t.mean_height(0.6, 0.4), None);
+    assert_eq!(t.mean_height(f64::NAN, 0.4), None);
+}
