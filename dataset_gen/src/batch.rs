@@ -20,6 +20,7 @@ use crate::dataset::schema::{DigSample, OptimiserInfo, TrajectorySample};
 use crate::dataset::writer::DatasetWriter;
 use crate::dig_problem::{DigBounds, DigProblem, solve};
 use crate::error::Error;
+use crate::lock::FolderLock;
 use crate::rng::{derive_seed, rng_from_seed};
 use crate::runner::Budget;
 use crate::sampler::QuerySampler;
@@ -329,9 +330,13 @@ impl Default for RunOptions {
     }
 }
 
-/// Computes every part of `opts.shard` not yet present in `dir`.
+/// Computes every part of `opts.shard` not yet present in `dir`. Two runs
+/// of the same shard on one directory cannot overlap: the second fails
+/// with [`Error::Busy`] ([`crate::lock`]).
 pub fn run(cfg: &GenConfig, dir: &Path, opts: &RunOptions) -> Result<Summary, Error> {
     cfg.validate()?;
+    let shard = opts.shard;
+    let _lock = FolderLock::acquire(dir, &format!("shard-{}-of-{}.lock", shard.k, shard.n))?;
     prepare_dir(cfg, dir)?;
     let started = Instant::now();
     let mine: Vec<u64> = (0..cfg.parts()).filter(|&p| opts.shard.owns(p)).collect();

@@ -37,6 +37,10 @@ pub enum Error {
         "output directory {path} holds a run with a different configuration ({detail}); use another directory or the same settings"
     )]
     ManifestMismatch { path: PathBuf, detail: String },
+    #[error(
+        "{path} is locked by another run ({holder}): wait for it to finish, or give this one another output folder"
+    )]
+    Busy { path: PathBuf, holder: String },
     #[error("merge: {0}")]
     Merge(String),
     #[error("MCAP write error: {0}")]

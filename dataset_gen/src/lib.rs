@@ -24,6 +24,7 @@ pub mod dig_problem;
 pub mod error;
 pub mod front;
 pub mod library;
+pub mod lock;
 pub mod predictor;
 pub mod problem;
 pub mod quality;

@@ -9,6 +9,7 @@ use crate::evaluation::{EvalReport, EvalSettings, evaluate};
 use crate::networks::Networks;
 use dataset_gen::algorithms::{AnyAlgorithm, Pso};
 use dataset_gen::batch::{self, GenConfig, RunOptions};
+use dataset_gen::lock::FolderLock;
 use infer::{Config, DigType};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -91,6 +92,9 @@ pub struct PipelineOutcome {
 /// Runs the pipeline. `progress` shows bars on stderr.
 pub fn run(settings: &PipelineSettings, progress: bool) -> Result<PipelineOutcome, EvalError> {
     let cfg = Config::default();
+    // One pipeline per working folder: a second would train on the first's
+    // half-written dataset and overwrite its networks.
+    let _lock = FolderLock::acquire(&settings.out, "pipeline.lock")?;
     let mut steps = Vec::new();
     let (dir, dataset, networks) = match &settings.shipped {
         Some(dir) => (dir.clone(), None, Vec::new()),

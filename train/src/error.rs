@@ -40,6 +40,9 @@ pub enum TrainError {
     },
     #[error("model error: {0}")]
     Model(#[from] infer::Error),
+    /// Another job trains the same dig type into the same work folder.
+    #[error("{0}")]
+    Busy(dataset_gen::Error),
 }
 
 impl TrainError {

@@ -6,6 +6,7 @@ use crate::error::TrainError;
 use crate::report::{self, DatasetInfo, Report, VariantReport};
 use crate::training::{self, RunPaths, TrainOutcome, make_device};
 use burn::store::{BurnpackStore, ModuleSnapshot};
+use dataset_gen::lock::FolderLock;
 use std::path::{Path, PathBuf};
 
 /// Where a job reads and writes.
@@ -123,6 +124,10 @@ fn train_variant(
 pub fn run(cfg: &TrainConfig, opts: &JobOptions) -> Result<Report, TrainError> {
     cfg.validate()?;
     let kind = cfg.kind();
+    // One job per dig type and work folder: two would write the same
+    // checkpoints and artifacts.
+    let _lock = FolderLock::acquire(&opts.work, &format!("train-{}.lock", kind.name()))
+        .map_err(TrainError::Busy)?;
     let (split, dataset) = load_split(cfg, &opts.dataset)?;
     eprintln!(
         "{kind}: {} samples ({} infeasible dropped) → {} train / {} validation / {} test",
