@@ -204,7 +204,9 @@ struct Try {
     key: (bool, f64),
 }
 
-/// The volume aimed at, as a fraction of V_max (V_max itself is a limit).
+/// The volume aimed at, as a fraction of V_max (V_max itself is a limit):
+/// near the top of the window that ends the search, so a secant step that
+/// lands short of the aim may still end it.
 const MATCH_FILL: f64 = 0.997;
 /// How far a network's dig moves when H moves, as a fraction: the first
 /// step assumes the volume grows by this × bucket width × chord per metre
@@ -216,15 +218,14 @@ const MATCH_RESPONSE: f64 = 0.3;
 /// what its missing volume asks for: one that overshoots V_max wastes a
 /// try, one that falls short still gives the secant its slope. With ¾,
 /// eval's tasks of seeds 1 and 5 take 84 and 92 tries for 52 answers
-/// (91 and 99 without the step, 87 and 96 with all of it).
+/// (91 and 99 without the step, 88 and 102 with all of it).
 const MATCH_GROUND_STEP: f64 = 0.75;
 /// A try that fills at least this fraction of V_max (and no more than
 /// V_max) ends the search. Each 0.1 % of V_max short adds 0.0009 to the
 /// objective (about 0.25 % of a typical 0.36), and each try costs about as
-/// much time as the
-/// first: on eval's tasks of seed 1, 0.985 against 0.99 ends 33 of 52
-/// answers at the first try instead of 26, for 0.3 % on the mean objective
-/// (seed 5: 32 instead of 20, for 0.3 %).
+/// much time as the first: on eval's tasks of seed 1, 0.985 against 0.99
+/// ends 33 of 52 answers at the first try instead of 26, for 0.3 % on the
+/// mean objective (seed 5: 32 instead of 20, for 0.3 %).
 const MATCH_ENOUGH: f64 = 0.985;
 
 impl<P> SurfaceMatched<P> {
