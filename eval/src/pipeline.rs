@@ -93,8 +93,12 @@ pub struct PipelineOutcome {
 pub fn run(settings: &PipelineSettings, progress: bool) -> Result<PipelineOutcome, EvalError> {
     let cfg = Config::default();
     // One pipeline per working folder: a second would train on the first's
-    // half-written dataset and overwrite its networks.
-    let _lock = FolderLock::acquire(&settings.out, "pipeline.lock")?;
+    // half-written dataset and overwrite its networks. The quick form
+    // writes nothing there.
+    let _lock = match settings.shipped {
+        None => Some(FolderLock::acquire(&settings.out, "pipeline.lock")?),
+        Some(_) => None,
+    };
     let mut steps = Vec::new();
     let (dir, dataset, networks) = match &settings.shipped {
         Some(dir) => (dir.clone(), None, Vec::new()),
