@@ -4,7 +4,7 @@
 //! whatever a predictor returns, so a predictor only has to be good, not
 //! right.
 
-use crate::config::{Config, Machine};
+use crate::config::Config;
 use crate::dig::{DigType, Ground};
 use crate::error::Error;
 use crate::kinematics::forward;
@@ -269,15 +269,15 @@ impl<P: DigPredictor> DigPredictor for SurfaceMatched<P> {
         let [_, v_max] = self.cfg.objective.volume;
         let aim = MATCH_FILL * v_max;
         let m = &self.cfg.machine;
-        let chord = (forward(m, &query.start).x - forward(m, &query.end).x)
-            .abs()
-            .max(0.05);
+        let [xs, xe] = [&query.start, &query.end].map(|p| forward(m, p).x);
+        let chord = (xs - xe).abs().max(0.05);
         let width = m.bucket_width;
         let [lo, hi] = self.surface;
         let mut q = *query;
         // The first step needs no try: what the ground lacks against a
         // flat surface at H over the chord is about the missing volume.
-        if let Some(mean) = mean_height_under(m, query, ground) {
+        let [a, b] = [xs.min(xe), xs.max(xe)].map(|x| x + ground.base_x);
+        if let Some(mean) = ground.terrain.mean_height(a, b) {
             let h = q.surface - MATCH_GROUND_STEP * (q.surface - mean) / MATCH_RESPONSE;
             q.surface = h.clamp(lo, hi);
         }
@@ -362,11 +362,4 @@ impl<P: DigPredictor> DigPredictor for SurfaceMatched<P> {
         self.last = Some(checked);
         Ok(checked.params)
     }
-}
-
-/// The mean height of the ground between the dig's start and end tips
-/// (`None` where that leaves the terrain).
-fn mean_height_under(m: &Machine, query: &DigQuery, ground: Ground<'_>) -> Option<f64> {
-    let [a, b] = [&query.start, &query.end].map(|p| forward(m, p).x + ground.base_x);
-    ground.terrain.mean_height(a.min(b), a.max(b))
 }
