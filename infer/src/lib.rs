@@ -52,7 +52,7 @@ pub mod verify;
 pub use config::{Config, DigAngles, Machine, Objective, Soil};
 pub use dig::{
     Check, DigReport, DigTask, DigType, Ground, Quantity, Reference, Sample, evaluate,
-    evaluate_with,
+    evaluate_with, kinematic_peaks,
 };
 pub use error::Error;
 pub use kinematics::{Elbow, Pose, forward, inverse, tip_jacobian};

@@ -11,7 +11,7 @@ use crate::kinematics::forward;
 use crate::network::Network;
 use crate::query::{DigQuery, QueryRanges};
 use crate::repair::{Assessment, RepairSettings, assess, refine, rescale};
-use crate::retime::{RetimeWork, Stretch, best_stretch};
+use crate::retime::{Recorded, RetimeWork, record_fastest};
 use crate::terrain::{CarveBuffer, Terrain};
 use crate::trajectory::DigParams;
 
@@ -143,19 +143,22 @@ impl DigPredictor for RefinePredictor {
 /// so) asked until its dig fills the bucket on the real surface. On ground
 /// earlier digs carved, a flat surface at the dig's start is a poor
 /// stand-in and the dig comes out part-empty; a lower H makes the network
-/// dig deeper. Each try is one prediction and one exact evaluation, which
-/// also records the dig for retiming ([`crate::retime`]): the stretch of
-/// its time with the lowest objective under every limit is searched on the
-/// record, so a try that breaks a speed, acceleration, torque or power
-/// limit counts as what its stretch would make of it. Before the first
-/// try H moves by what the ground lacks below it over the chord, damped;
-/// after it by the missing volume over the bucket width, the chord and
-/// the network's response, then by secant; it stays within the heights
-/// the network was trained on. A try that nearly fills the bucket ends
-/// the search. The best try, feasible first, then lowest objective, is
-/// stretched and checked once more by the exact model (kept as it was if
-/// the stretch does not do better); [`SurfaceMatched::last_checked`] has
-/// that check, so a caller need not evaluate it again.
+/// dig deeper. Each try is one prediction, stretched in time to the
+/// fastest its speed, acceleration and duration limits allow (the
+/// network's answers are slower than they need be, and there the
+/// objective is almost always lowest), and one exact evaluation of that,
+/// which also records it ([`crate::retime::record_fastest`]): a slower
+/// stretch is searched on the record, so a try that breaks a torque or
+/// power limit counts as what its stretch would make of it. Before the
+/// first try H moves by what the ground lacks below it over the chord,
+/// damped; after it by the missing volume over the bucket width, the
+/// chord and the network's response, then by secant; it stays within the
+/// heights the network was trained on. A try that nearly fills the bucket
+/// ends the search. The best try, feasible first, then lowest objective,
+/// is the answer as it was evaluated or, if its record found a better
+/// slower stretch, that stretch once the exact model confirms it;
+/// [`SurfaceMatched::last_checked`] has the answer's exact evaluation, so
+/// a caller need not evaluate it again.
 #[derive(Clone)]
 pub struct SurfaceMatched<P> {
     inner: P,
@@ -180,8 +183,9 @@ pub struct Checked {
     /// The stretch k of its time that retiming applied to the network's
     /// answer (1: none).
     pub stretch: f64,
-    /// The answer broke a limit of speed, acceleration, torque, power or
-    /// duration, and the stretch met it.
+    /// The network's answer broke a limit of speed, acceleration, torque,
+    /// power or duration (torque and power as the record predicts them),
+    /// and the stretch met it.
     pub stretched: bool,
 }
 
@@ -191,17 +195,6 @@ impl<P> core::fmt::Debug for SurfaceMatched<P> {
             .field("tries", &self.tries)
             .finish()
     }
-}
-
-/// One try of [`SurfaceMatched`]: the answer, its assessment, the stretch
-/// found on its record, and how it ranks (feasible first, then lowest
-/// objective, as the stretch would make it).
-#[derive(Clone, Copy)]
-struct Try {
-    y: DigParams,
-    assessment: Assessment,
-    stretch: Option<Stretch>,
-    key: (bool, f64),
 }
 
 /// The volume aimed at, as a fraction of V_max (V_max itself is a limit):
@@ -283,12 +276,12 @@ impl<P: DigPredictor> DigPredictor for SurfaceMatched<P> {
         }
         self.last = None;
         let mut first = None;
-        let mut best: Option<Try> = None;
+        let mut best: Option<(Recorded, (bool, f64))> = None;
         let mut previous: Option<(f64, f64)> = None;
         for _ in 0..self.tries {
             let y = self.inner.predict(&q, ground)?;
             first.get_or_insert(y);
-            let Ok((a, stretch)) = best_stretch(
+            let Ok(r) = record_fastest(
                 &self.cfg,
                 &task,
                 &y,
@@ -301,19 +294,14 @@ impl<P: DigPredictor> DigPredictor for SurfaceMatched<P> {
                 // check says why if it is the only one.
                 break;
             };
-            let key = match stretch {
+            let key = match r.further {
                 Some(s) => (true, -s.objective),
-                None => (a.feasible, -a.report.objective),
+                None => (r.assessment.feasible, -r.assessment.report.objective),
             };
-            if best.is_none_or(|b| b.key < key) {
-                best = Some(Try {
-                    y,
-                    assessment: a,
-                    stretch,
-                    key,
-                });
+            if best.is_none_or(|(_, k)| k < key) {
+                best = Some((r, key));
             }
-            let (h, v) = (q.surface, a.report.volume);
+            let (h, v) = (q.surface, r.assessment.report.volume);
             if v >= MATCH_ENOUGH * v_max && v <= v_max {
                 break;
             }
@@ -331,31 +319,26 @@ impl<P: DigPredictor> DigPredictor for SurfaceMatched<P> {
                 break;
             }
         }
-        let Some(Try {
-            y,
-            assessment: a,
-            stretch,
-            ..
-        }) = best
-        else {
+        let Some((r, _)) = best else {
             return Ok(first.expect("at least one try"));
         };
+        let a = r.assessment;
         let mut checked = Checked {
-            params: y,
+            params: r.params,
             assessment: a,
-            stretch: 1.0,
-            stretched: false,
+            stretch: r.k,
+            stretched: r.k != 1.0 && !r.original_feasible,
         };
-        if let Some(s) = stretch {
-            let z = rescale(&y, s.k);
+        if let Some(s) = r.further {
+            let z = rescale(&r.params, s.k);
             if let Ok(b) = assess(&self.cfg, &task, &z, ground, &mut self.scratch, None)
                 && (b.feasible, -b.report.objective) > (a.feasible, -a.report.objective)
             {
                 checked = Checked {
                     params: z,
                     assessment: b,
-                    stretch: s.k,
-                    stretched: !a.feasible,
+                    stretch: r.k * s.k,
+                    stretched: !r.original_feasible,
                 };
             }
         }

@@ -17,7 +17,7 @@
 //! planner shaped for the design with no regard for time, usually does not.
 
 use crate::config::Config;
-use crate::dig::{DigReport, DigTask, Ground, Quantity};
+use crate::dig::{DigReport, DigTask, Ground, Quantity, kinematic_peaks};
 use crate::dynamics::static_torque;
 use crate::error::Error;
 use crate::repair::{Assessment, DesignGuard, assess, assess_framed, rescale};
@@ -149,9 +149,112 @@ pub fn best_stretch(
     if n > MAX_RETIME_SAMPLES {
         return Ok((assess(cfg, task, params, ground, scratch, guard)?, None));
     }
+    let a = record(cfg, task, params, ground, scratch, guard, work)?;
+    let stretch = if stretchable(&a, guard) {
+        search(cfg, &a, params.duration, &work.records[..n], false)
+    } else {
+        None
+    };
+    Ok((a, stretch))
+}
+
+/// A dig evaluated at its fastest stretch ([`record_fastest`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Recorded {
+    /// The dig as evaluated: the original stretched by `k`.
+    pub params: DigParams,
+    pub k: f64,
+    /// The exact assessment of `params`; its carving is in the caller's
+    /// scratch buffer.
+    pub assessment: Assessment,
+    /// A further stretch of `params` (k > 1) the record predicts to do
+    /// better, to be checked by the exact model.
+    pub further: Option<Stretch>,
+    /// Whether the original dig keeps every limit: its speeds,
+    /// accelerations and duration exactly, its torque and power as the
+    /// record predicts them (to within 10⁻⁷ of the limits).
+    pub original_feasible: bool,
+}
+
+/// `params` stretched at once to the fastest its speed, acceleration and
+/// duration limits allow (found from the trajectory alone, [`kinematic_peaks`]),
+/// evaluated there and recorded, and the record searched for a better
+/// stretch still (a slower one: torque, power or energy may ask for it).
+/// Where [`retime`] evaluates the dig, then its best stretch, this needs
+/// one evaluation when the best stretch is the fastest, as it almost
+/// always is for a network's answer, which is slower than it need be; the
+/// original itself is not evaluated, so it is not a candidate unless the
+/// search finds it. The carving of `params` is left in `scratch`.
+pub fn record_fastest(
+    cfg: &Config,
+    task: &DigTask,
+    params: &DigParams,
+    ground: Ground<'_>,
+    scratch: &mut CarveBuffer,
+    guard: Option<&DesignGuard>,
+    work: &mut RetimeWork,
+) -> Result<Recorded, Error> {
+    let n = cfg.time_samples;
+    let (speed, accel) = kinematic_peaks(cfg, task, params)?;
+    let (lo, hi) = stretch_range(cfg, params.duration, &speed, &accel);
+    let k = if n <= MAX_RETIME_SAMPLES && lo <= hi {
+        lo
+    } else {
+        1.0
+    };
+    let fastest = rescale(params, k);
+    let (a, further) = if k == 1.0 {
+        best_stretch(cfg, task, params, ground, scratch, guard, work)?
+    } else {
+        let a = record(cfg, task, &fastest, ground, scratch, guard, work)?;
+        let further = if stretchable(&a, guard) {
+            search(cfg, &a, fastest.duration, &work.records[..n], true)
+        } else {
+            None
+        };
+        (a, further)
+    };
+    let m = &cfg.machine;
+    let [t_min, t_max] = cfg.objective.duration;
+    let kinematics_ok = (0..3).all(|i| speed[i] <= m.max_speed[i] && accel[i] <= m.max_accel[i])
+        && (t_min..=t_max).contains(&params.duration);
+    let original_feasible = if k == 1.0 {
+        a.feasible
+    } else {
+        kinematics_ok
+            && stretchable(&a, guard)
+            && predict(
+                cfg,
+                &a.report,
+                fastest.duration,
+                &work.records[..n],
+                1.0 / k,
+            )
+            .is_finite()
+    };
+    Ok(Recorded {
+        params: fastest,
+        k,
+        assessment: a,
+        further,
+        original_feasible,
+    })
+}
+
+/// Evaluates `params` (its carving left in `scratch`), recording each
+/// sample's torque split into its motion and static parts.
+fn record(
+    cfg: &Config,
+    task: &DigTask,
+    params: &DigParams,
+    ground: Ground<'_>,
+    scratch: &mut CarveBuffer,
+    guard: Option<&DesignGuard>,
+    work: &mut RetimeWork,
+) -> Result<Assessment, Error> {
     let m = &cfg.machine;
     let mut k = 0;
-    let a = assess_framed(cfg, task, params, ground, scratch, guard, |s, frames| {
+    assess_framed(cfg, task, params, ground, scratch, guard, |s, frames| {
         let load = cfg.soil.density * s.volume;
         let fixed = static_torque(m, frames, load, s.force);
         work.records[k] = Record {
@@ -160,13 +263,7 @@ pub fn best_stretch(
             speed: s.joints.qd.map(f64::abs),
         };
         k += 1;
-    })?;
-    let stretch = if stretchable(&a, guard) {
-        search(cfg, &a, params.duration, &work.records[..n])
-    } else {
-        None
-    };
-    Ok((a, stretch))
+    })
 }
 
 /// Whether a stretch can help: the limits it cannot change (joint angles,
@@ -186,24 +283,49 @@ fn stretchable(a: &Assessment, guard: Option<&DesignGuard>) -> bool {
     fixed_ok && guard.is_none_or(|g| g.violation(&a.over_dig) == 0.0)
 }
 
-/// The best stretch on the record, if it predicts a lower objective than
-/// the dig has (or makes an infeasible dig feasible).
-fn search(cfg: &Config, a: &Assessment, duration: f64, records: &[Record]) -> Option<Stretch> {
+/// The stretches [lo, hi] a dig of this duration and these peak speeds
+/// and accelerations may take: speeds, accelerations and the shortest
+/// duration bound k from below exactly, the longest from above, each aimed
+/// [`SAFETY`] inside. Empty (lo > hi, or NaN) when none keeps them all.
+fn stretch_range(cfg: &Config, duration: f64, speed: &[f64; 3], accel: &[f64; 3]) -> (f64, f64) {
     let m = &cfg.machine;
-    let r = &a.report;
     let [t_min, t_max] = cfg.objective.duration;
     let inside = 1.0 - SAFETY;
-    // Speeds and accelerations bound k from below exactly.
     let mut lo = t_min * (1.0 + SAFETY) / duration;
     for i in 0..3 {
-        lo = lo.max(r.peak_speed[i] / (m.max_speed[i] * inside));
-        lo = lo.max(libm::sqrt(r.peak_accel[i] / (m.max_accel[i] * inside)));
+        lo = lo.max(speed[i] / (m.max_speed[i] * inside));
+        lo = lo.max(libm::sqrt(accel[i] / (m.max_accel[i] * inside)));
     }
-    let hi = t_max * inside / duration;
+    (lo, t_max * inside / duration)
+}
+
+/// The best stretch on the record, if it predicts a lower objective than
+/// the dig has (or makes an infeasible dig feasible). `slower_only`: the
+/// dig is at its fastest already, so only k > 1 is searched, and the dig
+/// itself is kept when nothing slower does better.
+fn search(
+    cfg: &Config,
+    a: &Assessment,
+    duration: f64,
+    records: &[Record],
+    slower_only: bool,
+) -> Option<Stretch> {
+    let r = &a.report;
+    let (mut lo, hi) = stretch_range(cfg, duration, &r.peak_speed, &r.peak_accel);
+    if slower_only {
+        lo = lo.max(1.0);
+    }
     if lo.is_nan() || lo > hi {
         return None;
     }
-    let at = |k: f64| predict(cfg, r, duration, records, k);
+    // At its fastest, the dig is compared as the record predicts it, so
+    // the record's rounding (10⁻⁹) cannot make k = 1 look better than the
+    // dig itself.
+    let here = slower_only.then(|| predict(cfg, r, duration, records, 1.0));
+    let at = |k: f64| match here {
+        Some(f) if k == 1.0 => f,
+        _ => predict(cfg, r, duration, records, k),
+    };
     // A scan, then a golden-section search between the best point's
     // neighbours, unless the best is the fastest stretch the speed and
     // acceleration limits allow and the objective rises from there (the
@@ -230,7 +352,7 @@ fn search(cfg: &Config, a: &Assessment, duration: f64, records: &[Record]) -> Op
     } else {
         golden(&at, (k0 - step).max(lo), (k0 + step).min(hi), (k0, f0))
     };
-    let better = !a.feasible || best.1 < r.objective;
+    let better = !a.feasible || best.1 < here.unwrap_or(r.objective);
     better.then_some(Stretch {
         k: best.0,
         objective: best.1,

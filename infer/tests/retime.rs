@@ -4,8 +4,10 @@
 mod common;
 use common::{REFERENCE_Y, flat, reference_query, shipped};
 use infer::repair::{assess, rescale};
-use infer::retime::{RetimeWork, best_stretch, retime};
-use infer::{CarveBuffer, Config, DigParams, DigQuery, Ground, QueryRanges, Terrain};
+use infer::retime::{RetimeWork, best_stretch, record_fastest, retime};
+use infer::{
+    CarveBuffer, Config, DigParams, DigQuery, Ground, QueryRanges, Terrain, kinematic_peaks,
+};
 use proptest::prelude::*;
 
 fn ground(terrain: &Terrain) -> Ground<'_> {
@@ -127,6 +129,43 @@ fn a_limit_a_stretch_cannot_change_keeps_the_dig_as_it_was() {
     assert!(a.feasible && s.is_none());
 }
 
+#[test]
+fn stretching_first_gives_retimings_answer_with_one_evaluation_where_the_fastest_is_best() {
+    let cfg = Config::default();
+    let q = reference_query(&cfg);
+    let terrain = flat(&cfg, q.surface);
+    let mut work = Box::new(RetimeWork::default());
+    let mut buf = CarveBuffer::default();
+    for k in [0.8, 1.1, 1.3] {
+        let y = rescale(&DigParams::from_array(REFERENCE_Y), k);
+        let retimed = retime(
+            &cfg,
+            &q.task(),
+            &y,
+            ground(&terrain),
+            &mut buf,
+            None,
+            &mut work,
+        )
+        .unwrap();
+        let r = record_fastest(
+            &cfg,
+            &q.task(),
+            &y,
+            ground(&terrain),
+            &mut buf,
+            None,
+            &mut work,
+        )
+        .unwrap();
+        assert_eq!(retimed.evaluations, 2, "k {k}");
+        assert!(r.further.is_none(), "k {k}: {:?}", r.further);
+        assert_eq!(r.params, retimed.params, "k {k}");
+        assert_eq!(r.assessment, retimed.assessment, "k {k}");
+        assert_eq!(r.original_feasible, k > 1.0, "k {k}");
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
 
@@ -163,6 +202,54 @@ proptest! {
         } else {
             prop_assert!(r.assessment.feasible);
             prop_assert!((r.params.duration - y.duration * r.stretch).abs() < 1e-12);
+        }
+    }
+
+    /// Stretching first to the fastest the kinematic limits allow, then
+    /// searching that dig's record for a slower stretch, ends where
+    /// retiming from the dig itself does (to rounding), with one exact
+    /// evaluation fewer when the fastest is best; its peaks from the
+    /// trajectory alone are the evaluation's, bit for bit.
+    #[test]
+    fn stretching_first_ends_where_retiming_does(
+        u in prop::array::uniform6(0.0f64..1.0),
+        downward in any::<bool>(),
+        k in 0.7f64..1.4,
+    ) {
+        let cfg = Config::default();
+        let kind = if downward { infer::DigType::Downward } else { infer::DigType::Backward };
+        let q = QueryRanges::default().query_at(&cfg, kind, u);
+        prop_assume!(q.is_ok(), "unreachable query");
+        let q: DigQuery = q.unwrap();
+        let net = shipped(kind);
+        let y = DigParams::from_array(net.network().unwrap().forward(&q.input()).unwrap());
+        let y = rescale(&y, k);
+        let terrain = flat(&cfg, q.surface);
+        let g = ground(&terrain);
+        let mut buf = CarveBuffer::default();
+        let mut work = Box::new(RetimeWork::default());
+        let before = assess(&cfg, &q.task(), &y, g, &mut buf, None).unwrap();
+        let (speed, accel) = kinematic_peaks(&cfg, &q.task(), &y).unwrap();
+        prop_assert_eq!(speed, before.report.peak_speed);
+        prop_assert_eq!(accel, before.report.peak_accel);
+        let retimed = retime(&cfg, &q.task(), &y, g, &mut buf, None, &mut work).unwrap();
+        let r = record_fastest(&cfg, &q.task(), &y, g, &mut buf, None, &mut work).unwrap();
+        prop_assert_eq!(r.params, rescale(&y, r.k));
+        prop_assert_eq!(assess(&cfg, &q.task(), &r.params, g, &mut buf, None).unwrap(), r.assessment);
+        prop_assert_eq!(r.original_feasible, before.feasible);
+        let mut end = r.assessment;
+        if let Some(s) = r.further {
+            prop_assert!(s.k > 1.0);
+            let b = assess(&cfg, &q.task(), &rescale(&r.params, s.k), g, &mut buf, None).unwrap();
+            prop_assert!(b.feasible);
+            prop_assert!((b.report.objective - s.objective).abs() < 1e-9);
+            if (b.feasible, -b.report.objective) > (end.feasible, -end.report.objective) {
+                end = b;
+            }
+        }
+        if before.feasible || retimed.assessment.feasible {
+            prop_assert!(end.feasible);
+            prop_assert!(end.report.objective <= retimed.assessment.report.objective + 1e-6);
         }
     }
 }
