@@ -1,5 +1,5 @@
 //! The two trained networks as the planner loads them
-//! (`network_downward.json`, `network_backward.json`, format `dig-network/1`).
+//! (`network_downward.json`, `network_backward.json`, format `dig-network/2`).
 
 use crate::error::EvalError;
 use infer::network::NetworkFile;

@@ -7,11 +7,15 @@
 //! parameters are one flat slice, laid out as
 //!
 //! ```text
-//! μ_x (7) σ_x (7) μ_y (4) σ_y (4), then per layer: W (out × in, row-major), b (out)
+//! μ_x (7) σ_x (7) μ_y (4) σ_y (4), then per layer: W (in × out, row-major), b (out)
 //! ```
 //!
-//! so a controller can keep them in a `static` array. With `std`,
-//! [`NetworkFile`] reads and writes the JSON form that training exports.
+//! so a controller can keep them in a `static` array. W is stored as burn
+//! holds it (y = x W + b): the weights from one input to every output lie
+//! side by side, so the forward pass adds a block of outputs at once in
+//! vector registers. With `std`, [`NetworkFile`] reads and writes the JSON
+//! form that training exports (and reads the earlier `dig-network/1`,
+//! whose W was out × in).
 
 use crate::error::{Error, ensure_finite};
 use crate::math::tanh;
@@ -26,8 +30,8 @@ pub const MAX_WIDTH: usize = 256;
 pub const MAX_LAYERS: usize = 8;
 /// Number of normalisation constants at the front of the parameter slice.
 pub const NORMALISATION: usize = 2 * INPUTS + 2 * OUTPUTS;
-/// Rows of a layer's weights the forward pass sums side by side.
-const ROWS: usize = 4;
+/// Outputs of a layer the forward pass sums side by side.
+const BLOCK: usize = 16;
 
 /// A dense tanh network borrowing its parameters.
 #[derive(Debug, Clone, Copy)]
@@ -94,29 +98,33 @@ impl<'a> Network<'a> {
             let last = l + 1 == self.layers;
             let act = |z: f64| if last { z } else { tanh(z) };
             let inputs = &a[..n_in];
-            // Four rows at a time: four independent sums, so the additions
-            // overlap instead of waiting on each other. Each row still adds
-            // its products in order, so the result is the plain dot product
-            // bit for bit.
+            // A block of outputs at a time: independent sums the compiler
+            // keeps in vector registers. Each output still adds its
+            // products in input order, so the result is the plain dot
+            // product bit for bit.
             let mut o = 0;
-            while o + ROWS <= n_out {
-                let rows: [&[f64]; ROWS] =
-                    core::array::from_fn(|r| &weights[(o + r) * n_in..(o + r + 1) * n_in]);
-                let mut acc: [f64; ROWS] = core::array::from_fn(|r| rows[r][0] * inputs[0]);
-                for (i, v) in inputs.iter().enumerate().skip(1) {
-                    for r in 0..ROWS {
-                        acc[r] += rows[r][i] * v;
+            while o + BLOCK <= n_out {
+                let mut rows = weights.chunks_exact(n_out).zip(inputs);
+                let mut acc = [0.0; BLOCK];
+                if let Some((row, v)) = rows.next() {
+                    for (s, w) in acc.iter_mut().zip(&row[o..o + BLOCK]) {
+                        *s = w * v;
                     }
                 }
-                for r in 0..ROWS {
-                    b[o + r] = act(bias[o + r] + acc[r]);
+                for (row, v) in rows {
+                    for (s, w) in acc.iter_mut().zip(&row[o..o + BLOCK]) {
+                        *s += w * v;
+                    }
                 }
-                o += ROWS;
+                for (r, s) in acc.iter().enumerate() {
+                    b[o + r] = act(bias[o + r] + s);
+                }
+                o += BLOCK;
             }
             for o in o..n_out {
-                let row = &weights[o * n_in..(o + 1) * n_in];
-                let mut acc = row[0] * inputs[0];
-                for (w, v) in row.iter().zip(inputs).skip(1) {
+                let mut column = weights[o..].iter().step_by(n_out).zip(inputs);
+                let mut acc = column.next().map_or(0.0, |(w, v)| w * v);
+                for (w, v) in column {
                     acc += w * v;
                 }
                 b[o] = act(bias[o] + acc);
@@ -161,12 +169,20 @@ mod file {
     }
 
     impl NetworkFile {
-        pub const FORMAT: &'static str = "dig-network/1";
+        pub const FORMAT: &'static str = "dig-network/2";
+        /// The earlier format, read and converted: each W stored out × in.
+        const FORMAT_OUT_BY_IN: &'static str = "dig-network/1";
 
         /// Parses and checks a JSON export.
         pub fn from_json(text: &str) -> Result<Self, String> {
-            let file: NetworkFile =
+            let mut file: NetworkFile =
                 serde_json::from_str(text).map_err(|e| format!("network file: {e}"))?;
+            if file.format == Self::FORMAT_OUT_BY_IN
+                && file.params.len() == parameter_count(&file.widths)
+            {
+                file.transpose_weights();
+                file.format = Self::FORMAT.into();
+            }
             if file.format != Self::FORMAT {
                 return Err(format!(
                     "network file: format `{}`, expected `{}`",
@@ -176,6 +192,23 @@ mod file {
             }
             file.network().map_err(|e| format!("network file: {e}"))?;
             Ok(file)
+        }
+
+        /// Each layer's W from out × in to in × out (the parameter count
+        /// must match the widths).
+        fn transpose_weights(&mut self) {
+            let mut offset = NORMALISATION;
+            for w in self.widths.windows(2) {
+                let (n_in, n_out) = (w[0], w[1]);
+                let block = &mut self.params[offset..offset + n_in * n_out];
+                let out_by_in = block.to_vec();
+                for o in 0..n_out {
+                    for i in 0..n_in {
+                        block[i * n_out + o] = out_by_in[o * n_in + i];
+                    }
+                }
+                offset += n_in * n_out + n_out;
+            }
         }
 
         pub fn to_json(&self) -> String {

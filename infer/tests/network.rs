@@ -11,10 +11,12 @@ fn tiny() -> (Vec<usize>, Vec<f64>) {
     p.extend([2.0; 7]); // σ_x
     p.extend([1.0, 2.0, 3.0, 4.0]); // μ_y
     p.extend([0.5, 0.5, 0.5, 0.5]); // σ_y
-    p.extend([1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]); // W1 row 0: picks x0
-    p.extend([0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]); // W1 row 1: picks x1
+    // W1 (7 in × 2 out): output 0 picks x0, output 1 picks x1.
+    p.extend([1.0, 0.0, 0.0, 1.0]);
+    p.extend([0.0; 10]);
     p.extend([0.0, 0.0]); // b1
-    p.extend([1.0, 0.0, 0.0, 1.0, 1.0, 1.0, 0.0, 0.0]); // W2 (4 × 2)
+    // W2 (2 in × 4 out): h0, h1, h0 + h1, 0.
+    p.extend([1.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0]);
     p.extend([0.0, 0.0, 0.0, 1.0]); // b2
     assert_eq!(p.len(), parameter_count(&widths));
     (widths, p)
@@ -49,6 +51,14 @@ fn json_round_trip_and_bad_files() {
     };
     let back = NetworkFile::from_json(&file.to_json()).unwrap();
     assert_eq!(back, file);
+    // The earlier format stored each W out × in: it is read and converted.
+    let mut earlier = file.clone();
+    earlier.format = "dig-network/1".into();
+    earlier.params[22..36].copy_from_slice(&[
+        1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+    ]);
+    earlier.params[38..46].copy_from_slice(&[1.0, 0.0, 0.0, 1.0, 1.0, 1.0, 0.0, 0.0]);
+    assert_eq!(NetworkFile::from_json(&earlier.to_json()).unwrap(), file);
     let mut wrong = file.clone();
     wrong.params.pop();
     assert!(
@@ -128,8 +138,8 @@ fn shipped_networks_load_and_predict() {
     }
 }
 
-/// The forward pass written out plainly: one dot product per row, summed
-/// in order.
+/// The forward pass written out plainly: one dot product per output,
+/// summed in input order.
 fn plain_forward(widths: &[usize], p: &[f64], x: &[f64; 7]) -> [f64; 4] {
     let mut a: Vec<f64> = (0..7).map(|i| (x[i] - p[i]) / p[7 + i]).collect();
     let mut offset = 22;
@@ -142,7 +152,7 @@ fn plain_forward(widths: &[usize], p: &[f64], x: &[f64; 7]) -> [f64; 4] {
         offset += n_in * n_out + n_out;
         a = (0..n_out)
             .map(|o| {
-                let z = b[o] + (0..n_in).map(|i| w[o * n_in + i] * a[i]).sum::<f64>();
+                let z = b[o] + (0..n_in).map(|i| w[i * n_out + o] * a[i]).sum::<f64>();
                 if l + 2 == widths.len() {
                     z
                 } else {
@@ -154,9 +164,9 @@ fn plain_forward(widths: &[usize], p: &[f64], x: &[f64; 7]) -> [f64; 4] {
     std::array::from_fn(|i| a[i] * p[18 + i] + p[14 + i])
 }
 
-/// The forward pass sums several rows side by side for speed; each row
+/// The forward pass sums a block of outputs side by side for speed; each
 /// must still be the plain dot product, bit for bit, on both shipped
-/// networks and on a layer width that is not a multiple of the rows.
+/// networks and on a layer width that is not a multiple of the block.
 #[test]
 fn forward_pass_is_the_plain_computation_bit_for_bit() {
     let mut rng = common::Lcg(99);

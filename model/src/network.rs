@@ -7,7 +7,7 @@
 //!   y_n = (Y − μ_y) / σ_y, which is what the data loss compares;
 //! * [`DigNet::predict`] returns raw Y, which is what the physics evaluates;
 //! * [`DigNet::export`] writes the weights in `infer`'s flat
-//!   `dig-network/1` layout, which `infer::network::Network` evaluates
+//!   `dig-network/2` layout, which `infer::network::Network` evaluates
 //!   without burn (the same numbers to rounding, see `tests/export.rs`).
 //!
 //! The normalisation constants are `Param`s with `require_grad = false`:
@@ -271,9 +271,8 @@ impl DigNet {
             .expect("at least one layer")
     }
 
-    /// The weights in `infer`'s `dig-network/1` layout. burn's `Linear`
-    /// stores W as [in, out] (y = x W + b); infer wants out rows of `in`
-    /// values, so every matrix is transposed here.
+    /// The weights in `infer`'s `dig-network/2` layout, which stores W as
+    /// burn's `Linear` does: [in, out] (y = x W + b), row-major.
     pub fn export(&self) -> NetworkFile {
         let n = self.normalisation();
         let mut params: Vec<f64> = Vec::new();
@@ -283,10 +282,7 @@ impl DigNet {
         params.extend(n.y_std);
         for layer in &self.layers {
             let [d_in, d_out] = layer.weight.dims();
-            let w = to_f64(layer.weight.val().reshape([d_in * d_out]));
-            for o in 0..d_out {
-                params.extend((0..d_in).map(|i| w[i * d_out + o]));
-            }
+            params.extend(to_f64(layer.weight.val().reshape([d_in * d_out])));
             match &layer.bias {
                 Some(b) => params.extend(to_f64(b.val())),
                 None => params.extend(std::iter::repeat_n(0.0, d_out)),
