@@ -2,21 +2,23 @@
 //! (`artifacts/benchmarks.{json,md}`): one exact evaluation, one forward
 //! pass, the network planner per dig and per task (tasks A–D), the
 //! template planner per task, PSO per dig
-//! on the same digs and its throughput on every core, their ratio, and the
-//! network's objective relative to PSO's on those digs. Each figure names
+//! on the same digs and its throughput on every core, the network alone
+//! on PSO's problem for those digs, the ratios, and the network's
+//! objective relative to PSO's on those digs. Each figure names
 //! how it was measured; the machine and its load are recorded with them.
 
-use crate::baselines::{Baseline, solve_again};
+use crate::baselines::{Baseline, answer_alone, solve_again};
 use crate::digs::dig_seed;
 use crate::error::{EvalError, write_file};
-use crate::evaluation::load_average;
+use crate::evaluation::{EvalSettings, load_average};
 use crate::networks::Networks;
 use crate::planning::run_plan;
 use crate::tasks::reference_tasks;
 use dataset_gen::stats::Distribution;
 use infer::template::{TemplateSettings, TemplateWork};
 use infer::{
-    CarveBuffer, Config, DigPredictor, Ground, Planner, PlannerSettings, Template, Terrain,
+    CarveBuffer, Config, DigPredictor, Ground, Planner, PlannerSettings, SurfaceMatched, Template,
+    Terrain,
 };
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -223,7 +225,7 @@ pub fn measure(
 
     // PSO on the same digs, one thread, and the network's objective against it.
     let pso = Baseline::pso();
-    let mut pso_times = Vec::new();
+    let mut pso_answers = Vec::new();
     let (mut obj_net, mut obj_pso, mut n) = (0.0, 0.0, 0usize);
     for (t, run) in tasks.iter().zip(&first) {
         for (d, step) in run.steps.iter().enumerate() {
@@ -235,15 +237,44 @@ pub fn measure(
                 &pso,
                 dig_seed(settings.seed, &t.name, d, 0),
             );
-            pso_times.push(f.seconds);
             if f.feasible {
                 obj_net += step.dig.report.objective;
                 obj_pso += f.objective;
                 n += 1;
             }
+            pso_answers.push(f);
         }
     }
+    let pso_times: Vec<f64> = pso_answers.iter().map(|f| f.seconds).collect();
     let pso_dig = Distribution::of(&pso_times).median;
+
+    // The network alone on those digs, as eval's comparison answers them.
+    let mut alone = SurfaceMatched::new(
+        networks.pair()?,
+        &cfg,
+        &planner.settings().ranges,
+        EvalSettings::default().alone_tries,
+    )?;
+    let mut alone_times = Vec::new();
+    let (mut alone_obj, mut alone_pso, mut alone_n) = (0.0, 0.0, 0usize);
+    let steps = first
+        .iter()
+        .flat_map(|r| r.steps.iter().map(move |s| (r, s)));
+    for rep in 0..=settings.plan_repeats.max(1) {
+        for ((run, step), pso_answer) in steps.clone().zip(&pso_answers) {
+            let guard = planner.guard(&run.plan.design);
+            let a = answer_alone(&cfg, step, &guard, &mut alone, &planner.settings().repair);
+            if rep > 0 {
+                alone_times.push(a.figures.seconds);
+            } else if a.figures.feasible && pso_answer.feasible {
+                // The first pass warms up, and its answers are compared.
+                alone_obj += a.figures.objective;
+                alone_pso += pso_answer.objective;
+                alone_n += 1;
+            }
+        }
+    }
+    let alone_dig = Distribution::of(&alone_times).median;
     fig(
         "PSO 50 × 100, per dig",
         pso_dig * 1e3,
@@ -263,6 +294,28 @@ pub fn measure(
         pso_dig / proposal,
         "×",
         "PSO median per dig / forward pass + one exact evaluation".into(),
+    );
+    fig(
+        "the network alone, per dig",
+        alone_dig * 1e6,
+        "µs",
+        format!(
+            "median over {} repetitions of the same {digs} digs answered by the network alone on PSO's problem, as `eval compare` does (`SurfaceMatched`: up to {} predictions until the bucket fills, retimed, checked, repaired if need be; no design guard)",
+            settings.plan_repeats,
+            EvalSettings::default().alone_tries
+        ),
+    );
+    fig(
+        "speed-up of the network alone over PSO, per dig",
+        pso_dig / alone_dig,
+        "×",
+        "ratio of the PSO and network-alone medians above (goal ≥ 1,000)".into(),
+    );
+    fig(
+        "network alone mean objective / PSO mean objective",
+        alone_obj / alone_pso,
+        "",
+        format!("over the {alone_n} of those digs where both answers are feasible (goal ≤ 1.02)"),
     );
     fig(
         "network mean objective / PSO mean objective",
