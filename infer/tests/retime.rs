@@ -166,6 +166,23 @@ fn stretching_first_gives_retimings_answer_with_one_evaluation_where_the_fastest
     }
 }
 
+/// The shipped network's answer to the query at `u` of the query ranges,
+/// its time stretched by `k`; `None` if the query is out of reach.
+fn network_dig(cfg: &Config, u: [f64; 6], downward: bool, k: f64) -> Option<(DigQuery, DigParams)> {
+    let kind = if downward {
+        infer::DigType::Downward
+    } else {
+        infer::DigType::Backward
+    };
+    let q = QueryRanges::default().query_at(cfg, kind, u).ok()?;
+    let y = shipped(kind)
+        .network()
+        .unwrap()
+        .forward(&q.input())
+        .unwrap();
+    Some((q, rescale(&DigParams::from_array(y), k)))
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
 
@@ -180,13 +197,9 @@ proptest! {
         k in 0.7f64..1.4,
     ) {
         let cfg = Config::default();
-        let kind = if downward { infer::DigType::Downward } else { infer::DigType::Backward };
-        let q = QueryRanges::default().query_at(&cfg, kind, u);
-        prop_assume!(q.is_ok(), "unreachable query");
-        let q: DigQuery = q.unwrap();
-        let net = shipped(kind);
-        let y = DigParams::from_array(net.network().unwrap().forward(&q.input()).unwrap());
-        let y = rescale(&y, k);
+        let dig = network_dig(&cfg, u, downward, k);
+        prop_assume!(dig.is_some(), "unreachable query");
+        let (q, y) = dig.unwrap();
         let terrain = flat(&cfg, q.surface);
         let mut buf = CarveBuffer::default();
         let before = assess(&cfg, &q.task(), &y, ground(&terrain), &mut buf, None).unwrap();
@@ -217,13 +230,9 @@ proptest! {
         k in 0.7f64..1.4,
     ) {
         let cfg = Config::default();
-        let kind = if downward { infer::DigType::Downward } else { infer::DigType::Backward };
-        let q = QueryRanges::default().query_at(&cfg, kind, u);
-        prop_assume!(q.is_ok(), "unreachable query");
-        let q: DigQuery = q.unwrap();
-        let net = shipped(kind);
-        let y = DigParams::from_array(net.network().unwrap().forward(&q.input()).unwrap());
-        let y = rescale(&y, k);
+        let dig = network_dig(&cfg, u, downward, k);
+        prop_assume!(dig.is_some(), "unreachable query");
+        let (q, y) = dig.unwrap();
         let terrain = flat(&cfg, q.surface);
         let g = ground(&terrain);
         let mut buf = CarveBuffer::default();
