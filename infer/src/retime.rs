@@ -15,6 +15,10 @@
 //! An optimiser's answer already sits at its best k: a stretch is a move
 //! within the dig family. A network's answer, or a dig that a trench
 //! planner shaped for the design with no regard for time, usually does not.
+//! A network's answer is nearly always best at the fastest stretch its
+//! speed and acceleration limits allow, which the trajectory alone gives:
+//! [`record_fastest`] evaluates it there first, and needs no second
+//! evaluation unless a slower stretch does better.
 
 use crate::config::Config;
 use crate::dig::{DigReport, DigTask, Ground, Quantity, kinematic_peaks};
