@@ -1,9 +1,11 @@
 //! One full dig evaluation at the default time grid (goal: ≤ 20 µs on one
-//! core of the 2-core development machine), and retiming a dig (one
-//! recorded evaluation, the search on the record, one exact check).
+//! core of the 2-core development machine), retiming a dig (one
+//! recorded evaluation, the search on the record, one exact check), and
+//! the same dig stretched to its fastest first (`record_fastest`: the
+//! trajectory's peaks, one recorded evaluation there, the search).
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use infer::retime::{RetimeWork, best_stretch, retime};
+use infer::retime::{RetimeWork, best_stretch, record_fastest, retime};
 use infer::{CarveBuffer, Config, Ground, Terrain};
 use std::hint::black_box;
 
@@ -47,6 +49,23 @@ fn bench(c: &mut Criterion) {
         b.iter(|| {
             black_box(
                 retime(
+                    &cfg,
+                    &task,
+                    black_box(&slow),
+                    ground,
+                    &mut buf,
+                    None,
+                    &mut work,
+                )
+                .unwrap(),
+            )
+        })
+    });
+    // The same answer, stretched to its fastest first: one evaluation.
+    c.bench_function("record_fastest_stretch", |b| {
+        b.iter(|| {
+            black_box(
+                record_fastest(
                     &cfg,
                     &task,
                     black_box(&slow),
