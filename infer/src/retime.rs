@@ -154,11 +154,7 @@ pub fn best_stretch(
         return Ok((assess(cfg, task, params, ground, scratch, guard)?, None));
     }
     let a = record(cfg, task, params, ground, scratch, guard, work)?;
-    let stretch = if stretchable(&a, guard) {
-        search(cfg, &a, params.duration, &work.records[..n], false)
-    } else {
-        None
-    };
+    let stretch = search(cfg, &a, guard, params.duration, &work.records[..n], false);
     Ok((a, stretch))
 }
 
@@ -211,11 +207,7 @@ pub fn record_fastest(
         best_stretch(cfg, task, params, ground, scratch, guard, work)?
     } else {
         let a = record(cfg, task, &fastest, ground, scratch, guard, work)?;
-        let further = if stretchable(&a, guard) {
-            search(cfg, &a, fastest.duration, &work.records[..n], true)
-        } else {
-            None
-        };
+        let further = search(cfg, &a, guard, fastest.duration, &work.records[..n], true);
         (a, further)
     };
     let m = &cfg.machine;
@@ -304,16 +296,21 @@ fn stretch_range(cfg: &Config, duration: f64, speed: &[f64; 3], accel: &[f64; 3]
 }
 
 /// The best stretch on the record, if it predicts a lower objective than
-/// the dig has (or makes an infeasible dig feasible). `slower_only`: the
-/// dig is at its fastest already, so only k > 1 is searched, and the dig
+/// the dig has (or makes an infeasible dig feasible); none if a limit a
+/// stretch cannot change breaks ([`stretchable`]). `slower_only`: the dig
+/// is at its fastest already, so only k > 1 is searched, and the dig
 /// itself is kept when nothing slower does better.
 fn search(
     cfg: &Config,
     a: &Assessment,
+    guard: Option<&DesignGuard>,
     duration: f64,
     records: &[Record],
     slower_only: bool,
 ) -> Option<Stretch> {
+    if !stretchable(a, guard) {
+        return None;
+    }
     let r = &a.report;
     let (mut lo, hi) = stretch_range(cfg, duration, &r.peak_speed, &r.peak_accel);
     if slower_only {
