@@ -576,9 +576,13 @@ fn main_inner() -> Result<(), Error> {
     }
 }
 
-fn main() {
-    if let Err(e) = main_inner() {
-        eprintln!("error: {e}");
-        std::process::exit(1);
+/// Exits with 2 on any error, as `plan`, `dig`, `train` and `eval` do.
+fn main() -> std::process::ExitCode {
+    match main_inner() {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            std::process::ExitCode::from(2)
+        }
     }
 }
