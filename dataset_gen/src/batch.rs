@@ -215,6 +215,10 @@ pub struct Summary {
     pub computed: u64,
     /// Samples found already done (resume) and skipped.
     pub skipped: u64,
+    /// Samples of parts another run was computing (an overlapping shard
+    /// on the same directory), left to it.
+    #[serde(default)]
+    pub left_to_others: u64,
     pub elapsed_s: f64,
     pub samples_per_s: f64,
     pub per_type: Vec<KindSummary>,
@@ -332,7 +336,9 @@ impl Default for RunOptions {
 
 /// Computes every part of `opts.shard` not yet present in `dir`. Two runs
 /// of the same shard on one directory cannot overlap: the second fails
-/// with [`Error::Busy`] ([`crate::lock`]).
+/// with [`Error::Busy`] ([`crate::lock`]). Runs of overlapping shards (0/2
+/// and 0/4) share the work: each part is computed under its own lock, and
+/// a part another run holds is left to it ([`Summary::left_to_others`]).
 pub fn run(cfg: &GenConfig, dir: &Path, opts: &RunOptions) -> Result<Summary, Error> {
     cfg.validate()?;
     let shard = opts.shard;
@@ -361,7 +367,26 @@ pub fn run(cfg: &GenConfig, dir: &Path, opts: &RunOptions) -> Result<Summary, Er
     let limit = opts
         .max_parts
         .map_or(pending.len(), |m| (m as usize).min(pending.len()));
+    let locks = dir.join("locks");
+    let mut left_to_others = 0;
     for group in pending[..limit].chunks(batch) {
+        let mut held = Vec::with_capacity(group.len());
+        for &p in group {
+            let n = cfg.part_range(p).count() as u64;
+            match FolderLock::try_acquire(&locks, &format!("part-{p:06}.lock"))? {
+                // Another run may have finished it since the scan above.
+                Ok(_) if part_done(cfg, dir, p) => {
+                    skipped += n;
+                    bar.inc(n);
+                }
+                Ok(lock) => held.push((p, lock)),
+                Err(_) => {
+                    left_to_others += n;
+                    bar.inc(n);
+                }
+            }
+        }
+        let group: Vec<u64> = held.iter().map(|(p, _)| *p).collect();
         let indices: Vec<u64> = group.iter().flat_map(|&p| cfg.part_range(p)).collect();
         let results: Vec<_> = indices
             .par_iter()
@@ -372,7 +397,7 @@ pub fn run(cfg: &GenConfig, dir: &Path, opts: &RunOptions) -> Result<Summary, Er
             })
             .collect::<Result<Vec<_>, Error>>()?;
         let mut it = results.into_iter();
-        for &p in group {
+        for &p in &group {
             let mut w = DatasetWriter::create(&part_path(dir, p), &config_json)?;
             for _ in cfg.part_range(p) {
                 if let Some((s, t)) = it.next() {
@@ -388,6 +413,7 @@ pub fn run(cfg: &GenConfig, dir: &Path, opts: &RunOptions) -> Result<Summary, Er
     Ok(Summary {
         computed: computed.len() as u64,
         skipped,
+        left_to_others,
         elapsed_s: elapsed,
         samples_per_s: if elapsed > 0.0 {
             computed.len() as f64 / elapsed
@@ -469,6 +495,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Summary, Error> {
     Ok(Summary {
         computed: 0,
         skipped: samples.len() as u64,
+        left_to_others: 0,
         elapsed_s: elapsed,
         samples_per_s: 0.0,
         per_type: summarise(&samples),

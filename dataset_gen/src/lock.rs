@@ -23,6 +23,18 @@ impl FolderLock {
     /// Locks `dir/<name>` (creating `dir`), or fails with [`Error::Busy`]
     /// naming the process that holds it.
     pub fn acquire(dir: &Path, name: &str) -> Result<Self, Error> {
+        match Self::try_acquire(dir, name)? {
+            Ok(lock) => Ok(lock),
+            Err(holder) => Err(Error::Busy {
+                path: dir.join(name),
+                holder,
+            }),
+        }
+    }
+
+    /// Locks `dir/<name>` (creating `dir`); `Ok(Err(holder))` if another
+    /// run holds it, for a caller that leaves that work to it.
+    pub fn try_acquire(dir: &Path, name: &str) -> Result<Result<Self, String>, Error> {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
         let path = dir.join(name);
         let mut file = OpenOptions::new()
@@ -36,16 +48,13 @@ impl FolderLock {
             Ok(()) => {}
             Err(TryLockError::WouldBlock) => {
                 let holder = std::fs::read_to_string(&path).unwrap_or_default();
-                return Err(Error::Busy {
-                    path,
-                    holder: holder.trim().to_string(),
-                });
+                return Ok(Err(holder.trim().to_string()));
             }
             Err(TryLockError::Error(e)) => return Err(Error::io(&path, e)),
         }
         file.set_len(0).map_err(|e| Error::io(&path, e))?;
         writeln!(file, "process {}", std::process::id()).map_err(|e| Error::io(&path, e))?;
-        Ok(FolderLock { _file: file, path })
+        Ok(Ok(FolderLock { _file: file, path }))
     }
 
     pub fn path(&self) -> &Path {

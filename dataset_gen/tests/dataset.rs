@@ -161,6 +161,29 @@ fn resumed_run_equals_uninterrupted_one() {
 }
 
 #[test]
+fn overlapping_shards_on_one_directory_share_the_work() {
+    let c = cfg();
+    let whole = generate(&c, &tmp("overlap_whole"), 2);
+    let dir = tmp("overlap");
+    // Another run (0/2, which owns parts 0 and 2) is computing part 0.
+    let other =
+        dataset_gen::lock::FolderLock::acquire(&dir.join("locks"), "part-000000.lock").unwrap();
+    let s = batch::run(&c, &dir, &quiet(Shard::ALL)).unwrap();
+    assert_eq!((s.computed, s.skipped, s.left_to_others), (6, 0, 4));
+    assert!(!part_path(&dir, 0).exists());
+    assert!(matches!(
+        batch::merge(std::slice::from_ref(&dir), &dir.join("dataset.mcap")),
+        Err(Error::Merge(_))
+    ));
+    drop(other);
+    let s = batch::run(&c, &dir, &quiet("0/2".parse().unwrap())).unwrap();
+    assert_eq!((s.computed, s.skipped, s.left_to_others), (4, 2, 0));
+    batch::merge(std::slice::from_ref(&dir), &dir.join("dataset.mcap")).unwrap();
+    assert_eq!(content(&dir.join("dataset.mcap")), whole);
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
 fn damaged_files_give_clear_errors() {
     let c = cfg();
     let dir = tmp("damaged");
