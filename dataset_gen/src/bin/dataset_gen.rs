@@ -360,7 +360,13 @@ fn main_inner() -> Result<(), Error> {
                 max_parts: None,
             };
             let mut summary = batch::run(&cfg, &out, &opts)?;
-            if shard_spec.is_none() {
+            if summary.left_to_others > 0 {
+                eprintln!(
+                    "{} samples were being computed by another run on {}; the same command, run again once it ends, merges them",
+                    summary.left_to_others,
+                    out.display()
+                );
+            } else if shard_spec.is_none() {
                 let merged = batch::merge(std::slice::from_ref(&out), &out.join("dataset.mcap"))?;
                 summary.output = merged.output;
                 // Report the distribution over the whole dataset, resumed parts included.
