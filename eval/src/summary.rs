@@ -293,6 +293,19 @@ fn profile_goal(tasks: &[TaskReport], whole: &[WholeTaskRow]) -> Goal {
     }
 }
 
+/// The network planner's mean dig objective against one optimiser's, ≤ 1.02.
+fn objective_goal(what: &str, b: &BaselineSummary) -> Goal {
+    Goal {
+        what: what.into(),
+        target: "≤ 1.02".into(),
+        measured: format!(
+            "{:.4} ({:.4} vs {:.4} over {} digs)",
+            b.objective_ratio, b.network_mean_objective, b.mean_objective, b.feasible
+        ),
+        met: b.objective_ratio <= 1.02,
+    }
+}
+
 /// Dig-by-dig, whole-task and per-task figures together.
 pub fn summarise(
     tasks: &[TaskReport],
@@ -323,30 +336,18 @@ pub fn summarise(
     let alone = alone_summary(digs, &baselines, alone_tries);
     let mut goals = Vec::new();
     if let Some(p) = pso {
-        goals.push(Goal {
-            what: "network mean dig objective relative to PSO's (digs where PSO is feasible)"
-                .into(),
-            target: "≤ 1.02".into(),
-            measured: format!(
-                "{:.4} ({:.4} vs {:.4} over {} digs)",
-                p.objective_ratio, p.network_mean_objective, p.mean_objective, p.feasible
-            ),
-            met: p.objective_ratio <= 1.02,
-        });
+        goals.push(objective_goal(
+            "network mean dig objective relative to PSO's (digs where PSO is feasible)",
+            p,
+        ));
     }
     // The planner's digs are held to the design guard and PSO's are not;
     // held to the same guard, PSO solves the problem the planner's digs solve.
     if let Some(g) = baselines.iter().find(|b| b.method == "pso-guarded") {
-        goals.push(Goal {
-            what: "the same against PSO held to the planner's design guard (the problem the planner's digs solve)"
-                .into(),
-            target: "≤ 1.02".into(),
-            measured: format!(
-                "{:.4} ({:.4} vs {:.4} over {} digs)",
-                g.objective_ratio, g.network_mean_objective, g.mean_objective, g.feasible
-            ),
-            met: g.objective_ratio <= 1.02,
-        });
+        goals.push(objective_goal(
+            "the same against PSO held to the planner's design guard (the problem the planner's digs solve)",
+            g,
+        ));
     }
     goals.push(Goal {
         what: "infeasible digs returned by the network planner".into(),
