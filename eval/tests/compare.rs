@@ -286,7 +286,11 @@ fn small_evaluation_writes_every_report_file() {
     assert!(report.limits.iter().any(|l| l.contains("A–D only")));
     assert_eq!(report.summary.network_infeasible, 0);
     let dir = temp_dir("small");
+    // A plan of an earlier report, of a task this one does not hold.
+    std::fs::create_dir_all(dir.join("plans")).unwrap();
+    std::fs::write(dir.join("plans/R07.json"), "{}").unwrap();
     output::write_report(&dir, &report, "test").unwrap();
+    assert!(!dir.join("plans/R07.json").exists());
     for f in [
         "report.md",
         "report.json",
