@@ -20,7 +20,7 @@ use crate::dataset::schema::{DigSample, OptimiserInfo, TrajectorySample};
 use crate::dataset::writer::DatasetWriter;
 use crate::dig_problem::{DigBounds, DigProblem, solve};
 use crate::error::Error;
-use crate::lock::FolderLock;
+use crate::jobs::{FolderLock, progress_bar};
 use crate::rng::{derive_seed, rng_from_seed};
 use crate::runner::Budget;
 use crate::sampler::QuerySampler;
@@ -336,7 +336,7 @@ impl Default for RunOptions {
 
 /// Computes every part of `opts.shard` not yet present in `dir`. Two runs
 /// of the same shard on one directory cannot overlap: the second fails
-/// with [`Error::Busy`] ([`crate::lock`]). Runs of overlapping shards (0/2
+/// with [`Error::Busy`] ([`crate::jobs::lock`]). Runs of overlapping shards (0/2
 /// and 0/4) share the work: each part is computed under its own lock, and
 /// a part another run holds is left to it ([`Summary::left_to_others`]).
 pub fn run(cfg: &GenConfig, dir: &Path, opts: &RunOptions) -> Result<Summary, Error> {
@@ -501,20 +501,4 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Summary, Error> {
         per_type: summarise(&samples),
         output: Some(path),
     })
-}
-
-/// A bar over `len` units with rate and ETA (hidden when `shown` is false).
-pub fn progress_bar(len: u64, units: &str, shown: bool) -> indicatif::ProgressBar {
-    let bar = if shown {
-        indicatif::ProgressBar::new(len)
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(&format!(
-            "{{spinner}} [{{elapsed_precise}}] {{msg}} {{wide_bar}} {{pos}}/{{len}} {units}  {{per_sec}}  ETA {{eta}}"
-        ))
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    bar
 }

@@ -5,7 +5,7 @@
 //! optimisers of the project (PSO, GWO, NSGA-II) behind one small problem
 //! interface, the standard test problems they are checked on, the
 //! single-dig problem built on `infer`'s exact model (on a flat surface, or
-//! on any terrain for an optimiser in the planner's loop, [`predictor`]),
+//! on any terrain for an optimiser in the planner's loop, `eval::predictor`),
 //! the query sampler, a deterministic, sharded and resumable batch runner,
 //! the MCAP dataset writer and reader that `train` and `eval` use, and
 //! pictures of Pareto fronts ([`front`]).
@@ -23,16 +23,18 @@ pub mod dataset;
 pub mod dig_problem;
 pub mod error;
 pub mod front;
+pub mod jobs;
 pub mod library;
-pub mod lock;
-pub mod predictor;
+pub mod perception;
 pub mod problem;
 pub mod quality;
 pub mod rng;
+pub mod roadheader;
 pub mod runner;
 pub mod sampler;
 pub mod sequence;
 pub mod stats;
+pub mod tasks;
 pub mod testfns;
 
 pub use error::Error;

@@ -11,81 +11,17 @@
 //! a learned placement model would be trained on.
 
 use crate::error::Error;
-use crate::rng::{derive_seed, rng_from_seed, uniform_in};
+use crate::rng::derive_seed;
 use crate::sequence::{SequenceSettings, carry_over, optimise_task, plan_value, refit_task};
+use crate::tasks::{MAX_DRAWS, random_task};
 use infer::plan::Plan;
+use infer::sequence::{MAX_NEIGHBOURS, nearest};
 use infer::template::TemplateFile;
+use infer::trench::RandomRanges;
 use infer::{DesignProfile, Planner, Template, TrenchTask};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
-
-/// Where random tasks are drawn from (metres, degrees).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct RandomRanges {
-    pub length: [f64; 2],
-    pub depth: [f64; 2],
-    pub slope_deg: [f64; 2],
-    pub far_edge: [f64; 2],
-}
-
-impl Default for RandomRanges {
-    /// Around the spec's tasks (L 0.55–0.70 m, D 0.10–0.20 m, slopes 40–65°,
-    /// far edge 1.05 m), a little wider.
-    fn default() -> Self {
-        RandomRanges {
-            length: [0.45, 0.75],
-            depth: [0.08, 0.20],
-            slope_deg: [40.0, 70.0],
-            far_edge: [1.00, 1.08],
-        }
-    }
-}
-
-impl RandomRanges {
-    /// A task's parameters scaled by these ranges (L, D, β1, β2, far edge):
-    /// the space in which library tasks are near or far.
-    fn features(&self, t: &TrenchTask) -> [f64; 5] {
-        let w = |r: [f64; 2]| (r[1] - r[0]).max(1e-9);
-        let slope = w(self.slope_deg);
-        [
-            t.length / w(self.length),
-            t.depth / w(self.depth),
-            t.slope_far.to_degrees() / slope,
-            t.slope_near.to_degrees() / slope,
-            t.far_edge / w(self.far_edge),
-        ]
-    }
-}
-
-/// Draws before giving up on one random task.
-pub const MAX_DRAWS: usize = 1000;
-
-/// Random task `index` under `seed`: L, D, β1, β2 and the far edge drawn
-/// uniformly from `ranges` by a generator seeded with (seed, index), kept
-/// only if the planner accepts it ([`Planner::digs_for`]); `None` after
-/// [`MAX_DRAWS`] rejected draws. Task i is the same whatever else is drawn.
-pub fn random_task(
-    planner: &Planner,
-    seed: u64,
-    index: usize,
-    ranges: &RandomRanges,
-) -> Option<TrenchTask> {
-    let mut rng = rng_from_seed(derive_seed(seed, index as u64));
-    for _ in 0..MAX_DRAWS {
-        let mut task = TrenchTask::new_deg(
-            uniform_in(&mut rng, ranges.length[0], ranges.length[1]),
-            uniform_in(&mut rng, ranges.depth[0], ranges.depth[1]),
-            uniform_in(&mut rng, ranges.slope_deg[0], ranges.slope_deg[1]),
-            uniform_in(&mut rng, ranges.slope_deg[0], ranges.slope_deg[1]),
-        );
-        task.far_edge = uniform_in(&mut rng, ranges.far_edge[0], ranges.far_edge[1]);
-        if planner.digs_for(&task).is_ok() {
-            return Some(task);
-        }
-    }
-    None
-}
 
 /// What a library is built from.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -297,19 +233,16 @@ impl Library {
         Ok(file.templates.len())
     }
 
-    /// The `k` plans whose tasks are nearest `task` (ties: file order).
-    pub fn nearest(&self, task: &TrenchTask, k: usize) -> Vec<&(PathBuf, Plan)> {
-        let f = self.ranges.features(task);
-        let mut near: Vec<(f64, &(PathBuf, Plan))> = self
-            .plans
-            .iter()
-            .map(|e| {
-                let g = self.ranges.features(&e.1.task);
-                (f.iter().zip(&g).map(|(a, b)| (a - b) * (a - b)).sum(), e)
-            })
-            .collect();
-        near.sort_by(|a, b| a.0.total_cmp(&b.0));
-        near.into_iter().take(k).map(|(_, e)| e).collect()
+    /// The at most `k` plans whose tasks are nearest `task`, nearest first
+    /// ([`infer::sequence::nearest`], as the template planner chooses: the
+    /// nearest plan of `digs` digs always among them).
+    pub fn nearest(&self, task: &TrenchTask, digs: usize, k: usize) -> Vec<&(PathBuf, Plan)> {
+        let stored = self.plans.iter().map(|(_, p)| (p.task, p.digs.len()));
+        nearest(stored, task, digs, k)
+            .into_iter()
+            .flatten()
+            .map(|i| &self.plans[i])
+            .collect()
     }
 }
 
@@ -335,13 +268,18 @@ pub fn refit_from_library(
     k: usize,
     settings: &SequenceSettings,
 ) -> Result<(Vec<Refit>, Option<usize>), Error> {
-    if k == 0 {
-        return Err(Error::BadSettings("refit at least one library plan".into()));
+    if k == 0 || k > MAX_NEIGHBOURS {
+        return Err(Error::BadSettings(format!(
+            "refit 1 to {MAX_NEIGHBOURS} library plans (got {k})"
+        )));
     }
+    let digs = planner
+        .digs_for(task)
+        .map_err(|e| Error::BadArgument(e.to_string()))?;
     let clock = std::time::Instant::now();
     let design = DesignProfile::new(planner.config(), task);
     let mut refits = library
-        .nearest(task, k)
+        .nearest(task, digs, k)
         .into_par_iter()
         .map(|(path, plan)| {
             let x = carry_over(planner, plan, &design)?;

@@ -7,7 +7,6 @@
 //! wins, and of two feasible points the objectives decide.
 
 use crate::error::Error;
-use std::cmp::Ordering;
 
 /// A box-bounded problem. `evaluate` takes `&mut self` so a problem can own
 /// scratch memory (the dig problem owns its carving buffer); problems are
@@ -102,15 +101,9 @@ pub fn sanitize(f: &mut [f64], violation: f64) -> f64 {
 }
 
 /// Deb's ordering of two single-objective points (violation, objective):
-/// `Less` means `a` is better.
-pub fn compare_single(a_viol: f64, a_f: f64, b_viol: f64, b_f: f64) -> Ordering {
-    match (a_viol <= 0.0, b_viol <= 0.0) {
-        (true, false) => Ordering::Less,
-        (false, true) => Ordering::Greater,
-        (false, false) => a_viol.total_cmp(&b_viol),
-        (true, true) => a_f.total_cmp(&b_f),
-    }
-}
+/// `Less` means `a` is better ([`infer::sequence::compare`], the one home
+/// of the rule).
+pub use infer::sequence::compare as compare_single;
 
 /// Constraint domination of two multi-objective points: true when `a`
 /// constraint-dominates `b`.
@@ -147,6 +140,7 @@ pub fn clamp_to(x: &mut [f64], lo: &[f64], hi: &[f64]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::cmp::Ordering;
 
     #[test]
     fn deb_rules() {

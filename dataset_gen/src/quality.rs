@@ -3,9 +3,10 @@
 //! iterations, and optimisations per second.
 
 use crate::algorithms::AnyAlgorithm;
-use crate::batch::{GenConfig, progress_bar};
+use crate::batch::GenConfig;
 use crate::dig_problem::{DigSolution, solve};
 use crate::error::Error;
+use crate::jobs::progress_bar;
 use crate::problem::compare_single;
 use crate::rng::{derive_seed, rng_from_seed};
 use crate::runner::Budget;

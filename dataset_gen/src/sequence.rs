@@ -21,7 +21,9 @@ use crate::rng::{derive_seed, rng_from_seed};
 use crate::runner::{Budget, Runner};
 use infer::plan::{DigRecord, Plan};
 use infer::repair::{Assessment, DesignGuard};
-use infer::template::{DIG_VARS, DigVars, SequenceDig, UNEVALUABLE, dig_box, play_dig_to_beat};
+use infer::sequence::{
+    DIG_VARS, DigVars, Refit, SequenceDig, UNEVALUABLE, dig_box, initial_step, play_dig_to_beat,
+};
 use infer::{
     Config, DesignProfile, DigQuery, Outcome, PlannedDig, Planner, ProfileMetrics, Reference,
     Template, Terrain, TrenchTask,
@@ -29,7 +31,7 @@ use infer::{
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-/// Variables per dig ([`infer::template::DIG_VARS`]): type, start x, chord,
+/// Variables per dig ([`infer::sequence::DIG_VARS`]): type, start x, chord,
 /// end lift, start ζ, end ζ, b1–b3, T.
 const PER_DIG: usize = DIG_VARS;
 
@@ -166,6 +168,19 @@ impl<'a> SequenceProblem<'a> {
     }
 }
 
+impl SequenceProblem<'_> {
+    /// One sequence evaluation, counted on the progress bar: its value in
+    /// `f[0]` and its violation; `None` as [`Self::play_to_beat`].
+    fn counted(&mut self, x: &[f64], f: &mut [f64], beat: Option<f64>) -> Option<f64> {
+        if let Some(bar) = self.bar {
+            bar.inc(1);
+        }
+        let (value, violation) = self.play_to_beat(x, |_, _, _, _| {}, beat)?;
+        f[0] = value;
+        Some(violation)
+    }
+}
+
 impl Problem for SequenceProblem<'_> {
     fn dim(&self) -> usize {
         self.digs * PER_DIG
@@ -174,73 +189,84 @@ impl Problem for SequenceProblem<'_> {
         (&self.lo, &self.hi)
     }
     fn evaluate(&mut self, x: &[f64], f: &mut [f64]) -> f64 {
-        if let Some(bar) = self.bar {
-            bar.inc(1);
-        }
-        let (value, violation) = self.play(x, |_, _, _, _| {});
-        f[0] = value;
-        violation
+        self.counted(x, f, None)
+            .expect("without a reference every dig is played")
     }
-    fn evaluate_to_beat(
-        &mut self,
-        x: &[f64],
-        f: &mut [f64],
-        reference: &Individual,
-    ) -> Option<f64> {
-        if let Some(bar) = self.bar {
-            bar.inc(1);
-        }
-        let (value, violation) =
-            self.play_to_beat(x, |_, _, _, _| {}, Some(reference.violation))?;
-        f[0] = value;
-        Some(violation)
+    fn evaluate_to_beat(&mut self, x: &[f64], f: &mut [f64], r: &Individual) -> Option<f64> {
+        self.counted(x, f, Some(r.violation))
     }
     fn name(&self) -> String {
         format!("sequence of {} digs", self.digs)
     }
 }
 
-/// Compass search from `start`: each variable in turn moves by ± its step
-/// (5 % of its range at first), a move kept when it is better by Deb's
-/// rules; after a pass without a gain every step halves. At most `budget`
-/// evaluations; returns the best point and the evaluations spent.
-fn compass(p: &mut SequenceProblem<'_>, start: Individual, budget: usize) -> (Individual, usize) {
-    let mut best = start;
-    let mut step: Vec<f64> =
-        p.lo.iter()
-            .zip(&p.hi)
-            .map(|(l, h)| 0.05 * (h - l))
-            .collect();
-    let mut f = [0.0];
-    let mut spent = 0;
-    while spent < budget {
-        let mut gained = false;
-        for i in 0..best.x.len() {
-            for sign in [1.0, -1.0] {
-                if spent >= budget {
-                    return (best, spent);
-                }
-                let mut x = best.x.clone();
-                x[i] = (x[i] + sign * step[i]).clamp(p.lo[i], p.hi[i]);
-                let played = p.evaluate_to_beat(&x, &mut f, &best);
-                spent += 1;
-                let Some(violation) = played else { continue };
-                if compare_single(violation, f[0], best.violation, best.f[0]).is_lt() {
-                    best = Individual {
-                        x,
-                        f: f.to_vec(),
-                        violation,
-                    };
-                    gained = true;
-                    break;
-                }
-            }
-        }
-        if !gained {
-            step.iter_mut().for_each(|s| *s *= 0.5);
+/// The sequence problem seen by infer's compass search
+/// ([`infer::sequence::compass`]): the best sequence so far and the last
+/// one played. Every move replays the whole sequence: one sequence
+/// evaluation.
+struct Polish<'p, 'a> {
+    p: &'p mut SequenceProblem<'a>,
+    best: Individual,
+    candidate: Option<Individual>,
+    spent: usize,
+}
+
+impl Refit for Polish<'_, '_> {
+    fn best(&self) -> &[DigVars] {
+        self.best.x.as_chunks::<PER_DIG>().0
+    }
+
+    fn best_score(&self) -> (f64, f64) {
+        (self.best.violation, self.best.f[0])
+    }
+
+    fn spent(&self) -> usize {
+        self.spent
+    }
+
+    fn cost(&self, _: usize) -> usize {
+        1
+    }
+
+    fn play(&mut self, j: usize, i: usize, value: f64) -> Option<(f64, f64)> {
+        let mut x = self.best.x.clone();
+        x[j * PER_DIG + i] = value;
+        let mut f = [0.0];
+        self.spent += 1;
+        let violation = self.p.evaluate_to_beat(&x, &mut f, &self.best)?;
+        self.candidate = Some(Individual {
+            x,
+            f: f.to_vec(),
+            violation,
+        });
+        Some((violation, f[0]))
+    }
+
+    fn accept(&mut self, _: usize) {
+        if let Some(c) = self.candidate.take() {
+            self.best = c;
         }
     }
-    (best, spent)
+}
+
+/// A polish ends when every step is below this fraction of its
+/// variable's range (the template planner's default).
+const POLISH_MIN_STEP: f64 = 1e-3;
+
+/// infer's compass search ([`infer::sequence::compass`]) from `start`, at
+/// most `budget` sequence evaluations: the best point and the
+/// evaluations spent.
+fn compass(p: &mut SequenceProblem<'_>, start: Individual, budget: usize) -> (Individual, usize) {
+    let (lo, hi) = dig_box(&p.cfg, &p.design);
+    let mut steps = vec![initial_step(&lo, &hi); p.digs];
+    let mut r = Polish {
+        p,
+        best: start,
+        candidate: None,
+        spent: 0,
+    };
+    infer::sequence::compass(&mut r, &lo, &hi, &mut steps, budget, POLISH_MIN_STEP);
+    (r.best, r.spent)
 }
 
 /// The best sequence of digs PSO finds for `task` (see the module doc),
@@ -332,7 +358,7 @@ pub fn plan_value(plan: &Plan, weight_objective: f64) -> f64 {
 }
 
 /// The variables' box for `digs` digs on `design` (each dig's is
-/// [`infer::template::dig_box`]).
+/// [`infer::sequence::dig_box`]).
 fn bounds(cfg: &Config, design: &DesignProfile, digs: usize) -> (Vec<f64>, Vec<f64>) {
     let (lo, hi) = dig_box(cfg, design);
     (lo.repeat(digs), hi.repeat(digs))

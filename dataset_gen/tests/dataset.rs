@@ -167,7 +167,7 @@ fn overlapping_shards_on_one_directory_share_the_work() {
     let dir = tmp("overlap");
     // Another run (0/2, which owns parts 0 and 2) is computing part 0.
     let other =
-        dataset_gen::lock::FolderLock::acquire(&dir.join("locks"), "part-000000.lock").unwrap();
+        dataset_gen::jobs::FolderLock::acquire(&dir.join("locks"), "part-000000.lock").unwrap();
     let s = batch::run(&c, &dir, &quiet(Shard::ALL)).unwrap();
     assert_eq!((s.computed, s.skipped, s.left_to_others), (6, 0, 4));
     assert!(!part_path(&dir, 0).exists());

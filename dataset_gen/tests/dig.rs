@@ -2,7 +2,7 @@
 
 use dataset_gen::algorithms::AnyAlgorithm;
 use dataset_gen::dig_problem::{
-    DigBounds, DigObjective, DigProblem, EVAL_ERROR_VIOLATION, solve, solve_problem,
+    DigBounds, DigObjective, DigProblem, DigSolution, EVAL_ERROR_VIOLATION, solve, solve_problem,
     weighted_choice,
 };
 use dataset_gen::problem::Problem;
@@ -17,22 +17,29 @@ fn example() -> (Config, DigQuery) {
     (cfg, q)
 }
 
+/// The example dig solved by optimiser `name` (population `population`,
+/// 100 iterations) from seed `seed`.
+fn solve_example(name: &str, population: usize, seed: u64) -> DigSolution {
+    let (cfg, q) = example();
+    let alg = AnyAlgorithm::by_name(name, population).unwrap();
+    let budget = Budget::iterations(100);
+    solve(
+        &cfg,
+        &q,
+        &DigBounds::default(),
+        &alg,
+        budget,
+        &mut rng_from_seed(seed),
+    )
+    .unwrap()
+}
+
 /// The spec's example dig: a crude random search found objective 0.357
 /// (feasible). PSO and GWO at the source's settings get within 3 %.
 #[test]
 fn example_dig_is_solved() {
-    let (cfg, q) = example();
     for name in ["pso", "gwo"] {
-        let alg = AnyAlgorithm::by_name(name, 50).unwrap();
-        let s = solve(
-            &cfg,
-            &q,
-            &DigBounds::default(),
-            &alg,
-            Budget::iterations(100),
-            &mut rng_from_seed(1),
-        )
-        .unwrap();
+        let s = solve_example(name, 50, 1);
         assert!(s.feasible(), "{name}: {s:?}");
         assert!(s.objective() < 0.357 * 1.03, "{name}: {}", s.objective());
         assert!((5.0..=10.0).contains(&s.y[3]));
@@ -41,17 +48,7 @@ fn example_dig_is_solved() {
 
 #[test]
 fn nsga2_picks_the_best_weighted_front_member() {
-    let (cfg, q) = example();
-    let alg = AnyAlgorithm::by_name("nsga2", 100).unwrap();
-    let s = solve(
-        &cfg,
-        &q,
-        &DigBounds::default(),
-        &alg,
-        Budget::iterations(100),
-        &mut rng_from_seed(2),
-    )
-    .unwrap();
+    let s = solve_example("nsga2", 100, 2);
     assert!(s.feasible(), "{s:?}");
     assert!(s.front_size >= 1);
     assert!(s.objective() < 0.45, "{}", s.objective());
@@ -262,45 +259,6 @@ fn on_ground_rejects_bad_input() {
     )
     .unwrap_err();
     assert!(e.to_string().contains("Pareto"), "{e}");
-}
-
-/// The optimiser predictor: call k is seeded with (seed, k), so two
-/// predictors with the same seed answer the same sequence of queries alike,
-/// and its answer is the optimiser's on the ground it is given.
-#[test]
-fn optimiser_predictor_is_seeded_per_call() {
-    use dataset_gen::predictor::OptimiserPredictor;
-    use infer::{DigPredictor, Ground, Terrain};
-    let (cfg, q) = example();
-    let terrain = Terrain::flat(-1.5, 1.5, cfg.terrain_dx, q.surface).unwrap();
-    let ground = Ground {
-        terrain: &terrain,
-        base_x: 0.0,
-    };
-    let alg = AnyAlgorithm::by_name("pso", 8).unwrap();
-    let make = || OptimiserPredictor::new(&cfg, alg.clone(), 4, 11).unwrap();
-    let (mut a, mut b) = (make(), make());
-    let ya = [
-        a.predict(&q, ground).unwrap(),
-        a.predict(&q, ground).unwrap(),
-    ];
-    let yb = [
-        b.predict(&q, ground).unwrap(),
-        b.predict(&q, ground).unwrap(),
-    ];
-    assert_eq!(ya, yb);
-    assert_ne!(ya[0], ya[1], "each call has its own stream");
-    assert_eq!(a.calls(), 2);
-    assert!(a.seconds() > 0.0);
-    let last = a.last().unwrap();
-    assert_eq!(last.y, ya[1].to_array());
-    assert!(last.report.is_some());
-    // Default: PSO at the source's settings.
-    let p = OptimiserPredictor::pso(&cfg, 1).unwrap();
-    assert_eq!(p.algorithm().population(), 50);
-    // Settings that cannot run are refused up front.
-    let bad = AnyAlgorithm::by_name("pso", 0).unwrap();
-    assert!(OptimiserPredictor::new(&cfg, bad, 4, 1).is_err());
 }
 
 /// A problem that always evaluates in full (the trait's default

@@ -4,10 +4,10 @@
 //! budgets, so this runs in seconds.
 
 use dataset_gen::Error;
-use dataset_gen::library::{
-    Library, LibrarySettings, RandomRanges, build, entry_path, random_task, refit_from_library,
-};
+use dataset_gen::library::{Library, LibrarySettings, build, entry_path, refit_from_library};
 use dataset_gen::sequence::SequenceSettings;
+use dataset_gen::tasks::random_task;
+use infer::trench::RandomRanges;
 use infer::{Config, Planner, PlannerSettings};
 
 fn planner() -> Planner {

@@ -14,7 +14,7 @@ use crate::whole::{
     PlanSummary, TemplatePlanning, WholeTaskRow, optimise_sequences, plan_from_templates,
     plan_with_optimiser,
 };
-use dataset_gen::batch::progress_bar;
+use dataset_gen::jobs::progress_bar;
 use dataset_gen::sequence::SequenceSettings;
 use infer::plan::Plan;
 use infer::{Config, Planner, PlannerSettings, SurfaceMatched, TrenchTask};

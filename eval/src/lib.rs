@@ -28,6 +28,7 @@ pub mod output;
 pub mod pipeline;
 pub mod planning;
 pub mod plots;
+pub mod predictor;
 pub mod summary;
 pub mod tables;
 pub mod tasks;

@@ -9,7 +9,7 @@ use crate::evaluation::{EvalReport, EvalSettings, evaluate};
 use crate::networks::Networks;
 use dataset_gen::algorithms::{AnyAlgorithm, Pso};
 use dataset_gen::batch::{self, GenConfig, RunOptions};
-use dataset_gen::lock::FolderLock;
+use dataset_gen::jobs::FolderLock;
 use infer::{Config, DigType};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -209,7 +209,7 @@ fn train_both(
         progress: false,
     };
     let budget = settings.train_seconds;
-    let bar = dataset_gen::batch::progress_bar(budget.ceil() as u64, "s", progress);
+    let bar = dataset_gen::jobs::progress_bar(budget.ceil() as u64, "s", progress);
     bar.set_message("training");
     let done = std::sync::atomic::AtomicBool::new(false);
     let results: Vec<Result<TrainedNetwork, EvalError>> = std::thread::scope(|s| {

@@ -8,7 +8,8 @@
 //! with (seed, i), so the first n tasks are the same whatever n is.
 
 use crate::error::EvalError;
-pub use dataset_gen::library::{MAX_DRAWS, RandomRanges, random_task};
+pub use dataset_gen::tasks::{MAX_DRAWS, random_task};
+pub use infer::trench::RandomRanges;
 use infer::{Planner, TrenchTask};
 use serde::{Deserialize, Serialize};
 

@@ -6,8 +6,8 @@
 use crate::baselines::Baseline;
 use crate::digs::name_key;
 use crate::planning::{PlanFailure, PlanRun, run_plan};
+use crate::predictor::OptimiserPredictor;
 use crate::tasks::NamedTask;
-use dataset_gen::predictor::OptimiserPredictor;
 use dataset_gen::rng::derive_seed;
 use dataset_gen::sequence::{SequenceSettings, optimise_task};
 use infer::plan::Plan;

@@ -93,6 +93,18 @@ pub fn output_files(stem: &std::path::Path) -> (PathBuf, PathBuf) {
     )
 }
 
+/// Success, or `error: …` on stderr and exit code 2 (bad input): how the
+/// commands end.
+pub fn exit_code(result: Result<(), String>) -> std::process::ExitCode {
+    match result {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            std::process::ExitCode::from(2)
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::output_files;

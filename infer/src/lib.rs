@@ -28,12 +28,14 @@
 #[cfg(feature = "cli")]
 pub mod cli;
 pub mod config;
+pub mod crawler;
 pub mod dig;
 pub mod dynamics;
 pub mod error;
 pub mod kinematics;
 pub mod math;
 pub mod network;
+pub mod pile;
 #[cfg(feature = "std")]
 pub mod plan;
 pub mod planner;
@@ -42,6 +44,9 @@ pub mod query;
 pub mod repair;
 pub mod resistance;
 pub mod retime;
+pub mod rng;
+pub mod roadheader;
+pub mod sequence;
 pub mod template;
 pub mod terrain;
 pub mod trajectory;
@@ -57,6 +62,7 @@ pub use dig::{
 pub use error::Error;
 pub use kinematics::{Elbow, Pose, forward, inverse, tip_jacobian};
 pub use math::{deg, to_deg};
+pub use pile::{PileDomain, PileError, PileSurface};
 pub use planner::{PlanError, PlanState, PlannedDig, Planner, PlannerSettings};
 pub use predictor::{Checked, DigPredictor, NetworkPair, RefinePredictor, SurfaceMatched};
 pub use query::{DigQuery, QueryRanges};

@@ -10,8 +10,8 @@ use crate::error::Error;
 use crate::kinematics::forward;
 use crate::network::Network;
 use crate::query::{DigQuery, QueryRanges};
-use crate::repair::{Assessment, RepairSettings, assess, refine, rescale};
-use crate::retime::{Recorded, RetimeWork, record_fastest};
+use crate::repair::{Assessment, RepairSettings, assess, refine};
+use crate::retime::{Recorded, RetimeWork, check, record_fastest};
 use crate::terrain::{CarveBuffer, Terrain};
 use crate::trajectory::DigParams;
 
@@ -330,9 +330,9 @@ impl<P: DigPredictor> DigPredictor for SurfaceMatched<P> {
             stretched: r.k != 1.0 && !r.original_feasible,
         };
         if let Some(s) = r.further {
-            let z = rescale(&r.params, s.k);
-            if let Ok(b) = assess(&self.cfg, &task, &z, ground, &mut self.scratch, None)
-                && (b.feasible, -b.report.objective) > (a.feasible, -a.report.objective)
+            let scratch = &mut self.scratch;
+            if let Ok(Some((z, b))) =
+                check(&self.cfg, &task, &r.params, s.k, &a, ground, scratch, None)
             {
                 checked = Checked {
                     params: z,

@@ -27,6 +27,7 @@ use crate::config::Config;
 use crate::dig::{Check, Cutoff, DigReport, DigTask, Ground, Reference, Sample, walk};
 use crate::error::Error;
 use crate::kinematics::LinkFrames;
+use crate::sequence::{bends_of, params_from_bends};
 use crate::terrain::CarveBuffer;
 use crate::trajectory::DigParams;
 use crate::trench::DesignProfile;
@@ -364,14 +365,14 @@ const BEND_SCALE: f64 = 0.05;
 /// Cost of a candidate the model rejects outright (e.g. the tip leaves the terrain).
 const REJECTED: f64 = 1e9;
 
-/// z = [c1, c2, c3] / BEND_SCALE ++ [T], with c_i = a_i6 T⁶ / 64 the
-/// peak bending of joint i \[rad\].
+/// z = [b1, b2, b3] / BEND_SCALE ++ [T], with b_i = a_i6 (T/2)⁶ the
+/// peak bending of joint i \[rad\] ([`bends_of`]).
 fn encode(p: &DigParams) -> [f64; 4] {
-    let t6 = libm::pow(p.duration, 6.0) / 64.0;
+    let b = bends_of(p);
     [
-        p.a6[0] * t6 / BEND_SCALE,
-        p.a6[1] * t6 / BEND_SCALE,
-        p.a6[2] * t6 / BEND_SCALE,
+        b[0] / BEND_SCALE,
+        b[1] / BEND_SCALE,
+        b[2] / BEND_SCALE,
         p.duration,
     ]
 }
@@ -383,15 +384,7 @@ fn decode(cfg: &Config, z: &[f64; 4]) -> DigParams {
     } else {
         t_min
     };
-    let t6 = libm::pow(t, 6.0) / 64.0;
-    DigParams {
-        a6: [
-            z[0] * BEND_SCALE / t6,
-            z[1] * BEND_SCALE / t6,
-            z[2] * BEND_SCALE / t6,
-        ],
-        duration: t,
-    }
+    params_from_bends([z[0] * BEND_SCALE, z[1] * BEND_SCALE, z[2] * BEND_SCALE], t)
 }
 
 /// Validates `predicted` and repairs it if needed. On success the carved

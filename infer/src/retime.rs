@@ -116,10 +116,9 @@ pub fn retime(
     let Some(best) = best else {
         return Ok(kept(1));
     };
-    let stretched = rescale(params, best.k);
-    let a = assess(cfg, task, &stretched, ground, scratch, guard)?;
-    let key = |a: &Assessment| (a.feasible, -a.report.objective);
-    if key(&a) > key(&original) {
+    if let Some((stretched, a)) =
+        check(cfg, task, params, best.k, &original, ground, scratch, guard)?
+    {
         return Ok(Retimed {
             params: stretched,
             assessment: a,
@@ -134,6 +133,29 @@ pub fn retime(
         assessment: restored,
         ..kept(3)
     })
+}
+
+/// The check that ends every retiming: `params` stretched by `k` and
+/// evaluated by the exact model; the stretched dig and its assessment if
+/// it beats `than` (feasible first, then the lower objective), else
+/// `None` (the record's prediction and the exact model disagree, by
+/// rounding at a limit). Either way the stretched dig's carving is left
+/// in `scratch`.
+#[allow(clippy::too_many_arguments)]
+pub fn check(
+    cfg: &Config,
+    task: &DigTask,
+    params: &DigParams,
+    k: f64,
+    than: &Assessment,
+    ground: Ground<'_>,
+    scratch: &mut CarveBuffer,
+    guard: Option<&DesignGuard>,
+) -> Result<Option<(DigParams, Assessment)>, Error> {
+    let stretched = rescale(params, k);
+    let a = assess(cfg, task, &stretched, ground, scratch, guard)?;
+    let key = |a: &Assessment| (a.feasible, -a.report.objective);
+    Ok((key(&a) > key(than)).then_some((stretched, a)))
 }
 
 /// Evaluates `params` (its carving left in `scratch`), recording it, and

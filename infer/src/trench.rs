@@ -28,6 +28,44 @@ pub struct TrenchTask {
     pub far_edge: f64,
 }
 
+/// Where random tasks are drawn from (metres, degrees).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RandomRanges {
+    pub length: [f64; 2],
+    pub depth: [f64; 2],
+    pub slope_deg: [f64; 2],
+    pub far_edge: [f64; 2],
+}
+
+impl Default for RandomRanges {
+    /// Around the spec's tasks (L 0.55–0.70 m, D 0.10–0.20 m, slopes 40–65°,
+    /// far edge 1.05 m), a little wider.
+    fn default() -> Self {
+        RandomRanges {
+            length: [0.45, 0.75],
+            depth: [0.08, 0.20],
+            slope_deg: [40.0, 70.0],
+            far_edge: [1.00, 1.08],
+        }
+    }
+}
+
+impl TrenchTask {
+    /// A task drawn from `ranges`: L, D, β1, β2 and the far edge in that
+    /// order, each by `uniform(lo, hi)` (a caller's generator: `infer`
+    /// holds none).
+    pub fn draw(ranges: &RandomRanges, mut uniform: impl FnMut(f64, f64) -> f64) -> Self {
+        let mut task = TrenchTask::new_deg(
+            uniform(ranges.length[0], ranges.length[1]),
+            uniform(ranges.depth[0], ranges.depth[1]),
+            uniform(ranges.slope_deg[0], ranges.slope_deg[1]),
+            uniform(ranges.slope_deg[0], ranges.slope_deg[1]),
+        );
+        task.far_edge = uniform(ranges.far_edge[0], ranges.far_edge[1]);
+        task
+    }
+}
+
 fn default_far_edge() -> f64 {
     TrenchTask::DEFAULT_FAR_EDGE
 }

@@ -1,10 +1,10 @@
 //! Repair, task validation, the design profile and the trench planner.
 
 mod common;
-use common::{REFERENCE_Y, flat, reference_query, shipped};
+use common::{REFERENCE_Y, flat, reference_query, shipped_pair};
 use infer::repair::{DesignGuard, Outcome, RepairError, Violation, assess, repair, rescale};
 use infer::{
-    CarveBuffer, Config, DigParams, DigPredictor, DigQuery, DigType, Error, Ground, Planner,
+    CarveBuffer, Config, DigParams, DigPredictor, DigQuery, Error, Ground, Planner,
     PlannerSettings, Quantity, RefinePredictor, RepairSettings, TaskError, Trajectory, TrenchTask,
     deg,
 };
@@ -15,9 +15,19 @@ mod counting;
 use counting::allocations;
 
 fn repair_ref(y: [f64; 4], budget: usize) -> Result<infer::repair::Repaired, RepairError> {
+    let q = reference_query(&Config::default());
+    repair_on(y, q.surface, budget)
+}
+
+/// [`repair_ref`] on flat ground at `surface` (the query's H unchanged).
+fn repair_on(
+    y: [f64; 4],
+    surface: f64,
+    budget: usize,
+) -> Result<infer::repair::Repaired, RepairError> {
     let cfg = Config::default();
     let q = reference_query(&cfg);
-    let terrain = flat(&cfg, q.surface);
+    let terrain = flat(&cfg, surface);
     repair(
         &cfg,
         &q.task(),
@@ -109,25 +119,7 @@ fn a_bad_prediction_is_refined_or_named() {
 #[test]
 fn an_impossible_dig_is_an_error_naming_the_constraint() {
     // Material surface far below the path: nothing to dig, so V < V_min whatever Y.
-    let cfg = Config::default();
-    let q = reference_query(&cfg);
-    let terrain = flat(&cfg, -1.2);
-    let err = repair(
-        &cfg,
-        &q.task(),
-        &DigParams::from_array(REFERENCE_Y),
-        Ground {
-            terrain: &terrain,
-            base_x: 0.0,
-        },
-        &mut CarveBuffer::default(),
-        None,
-        &RepairSettings {
-            budget: 40,
-            ..RepairSettings::default()
-        },
-    )
-    .unwrap_err();
+    let err = repair_on(REFERENCE_Y, -1.2, 40).unwrap_err();
     match err {
         RepairError::Infeasible {
             worst: Violation::Check(c),
@@ -272,9 +264,13 @@ fn fast_settings() -> PlannerSettings {
 }
 
 /// Every dig in a plan is feasible under the exact model, re-checked from scratch.
+/// Plans `task` dig by dig: at least one dig, no error, each dig feasible
+/// under a fresh exact evaluation on the surface before it; a plan that
+/// stops early says at which dig and why.
 fn check_plan(planner: &Planner, task: &TrenchTask, p: &mut dyn DigPredictor) {
     let cfg = *planner.config();
     let mut state = planner.start(task).unwrap();
+    let mut digs = 0;
     loop {
         let before = state.terrain().clone();
         match planner.next_dig(&mut state, p) {
@@ -298,14 +294,15 @@ fn check_plan(planner: &Planner, task: &TrenchTask, p: &mut dyn DigPredictor) {
                     r.worst_violation()
                 );
                 assert_eq!(r, dig.report);
+                digs += 1;
             }
             Ok(None) => break,
-            Err(e) => {
-                // An error is allowed; it must name what went wrong.
-                assert!(!e.to_string().is_empty());
-                break;
-            }
+            Err(e) => panic!("{task:?}: dig {} failed: {e}", digs + 1),
         }
+    }
+    assert!(digs > 0, "{task:?}: no dig");
+    if let Some(why) = state.stopped() {
+        assert_eq!(why.dig(), Some(digs), "{task:?}: stopped: {why}");
     }
 }
 
@@ -369,17 +366,12 @@ proptest! {
         b2 in 35.0f64..85.0,
         far_edge in 0.95f64..1.1,
     ) {
-        let (down, back) = (shipped(DigType::Downward), shipped(DigType::Backward));
-        let mut pair = infer::NetworkPair {
-            downward: down.network().unwrap(),
-            backward: back.network().unwrap(),
-        };
+        let mut pair = shipped_pair();
         let cfg = Config::default();
         let planner = Planner::new(&cfg, &PlannerSettings::default()).unwrap();
         let task = TrenchTask { far_edge, ..TrenchTask::new_deg(length, depth, b1, b2) };
-        if planner.digs_for(&task).is_ok() {
-            check_plan(&planner, &task, &mut pair);
-        }
+        prop_assume!(planner.digs_for(&task).is_ok());
+        check_plan(&planner, &task, &mut pair);
     }
 
     #[test]
@@ -392,10 +384,9 @@ proptest! {
         let cfg = Config::default();
         let planner = Planner::new(&cfg, &fast_settings()).unwrap();
         let task = TrenchTask::new_deg(length, depth, b1, b2);
-        if planner.digs_for(&task).is_ok() {
-            let mut pred = RefinePredictor::new(&cfg, 30).unwrap();
-            check_plan(&planner, &task, &mut pred);
-        }
+        prop_assume!(planner.digs_for(&task).is_ok());
+        let mut pred = RefinePredictor::new(&cfg, 30).unwrap();
+        check_plan(&planner, &task, &mut pred);
     }
 }
 
@@ -404,11 +395,7 @@ proptest! {
 /// most of its design area.
 #[test]
 fn shipped_networks_plan_tasks_a_to_d() {
-    let (down, back) = (shipped(DigType::Downward), shipped(DigType::Backward));
-    let mut pair = infer::NetworkPair {
-        downward: down.network().unwrap(),
-        backward: back.network().unwrap(),
-    };
+    let mut pair = shipped_pair();
     let cfg = Config::default();
     let planner = Planner::new(&cfg, &PlannerSettings::default()).unwrap();
     for name in ['A', 'B', 'C', 'D'] {
@@ -433,11 +420,7 @@ fn shipped_networks_plan_tasks_a_to_d() {
 /// as they are (task B, the shipped networks).
 #[test]
 fn polish_lowers_a_reshaped_digs_objective_and_keeps_its_material() {
-    let (down, back) = (shipped(DigType::Downward), shipped(DigType::Backward));
-    let mut pair = infer::NetworkPair {
-        downward: down.network().unwrap(),
-        backward: back.network().unwrap(),
-    };
+    let mut pair = shipped_pair();
     let cfg = Config::default();
     let polished = PlannerSettings::default();
     assert!(polished.polish.budget > 0);
@@ -498,11 +481,7 @@ fn polish_lowers_a_reshaped_digs_objective_and_keeps_its_material() {
 #[test]
 fn plans_replay_and_edits_are_caught() {
     use infer::verify::VerifyError;
-    let (down, back) = (shipped(DigType::Downward), shipped(DigType::Backward));
-    let mut pair = infer::NetworkPair {
-        downward: down.network().unwrap(),
-        backward: back.network().unwrap(),
-    };
+    let mut pair = shipped_pair();
     let planner = Planner::new(&Config::default(), &PlannerSettings::default()).unwrap();
     let plan = planner
         .plan(&TrenchTask::reference('B').unwrap(), &mut pair)
@@ -558,11 +537,7 @@ fn plans_replay_and_edits_are_caught() {
 /// checked when the planner is built.
 #[test]
 fn an_evaluation_bound_holds_for_every_dig() {
-    let (down, back) = (shipped(DigType::Downward), shipped(DigType::Backward));
-    let mut pair = infer::NetworkPair {
-        downward: down.network().unwrap(),
-        backward: back.network().unwrap(),
-    };
+    let mut pair = shipped_pair();
     let cfg = Config::default();
     let bounded = PlannerSettings {
         max_evaluations: Some(40),
@@ -621,11 +596,7 @@ fn an_evaluation_bound_holds_for_every_dig() {
 /// asking allocates nothing.
 #[test]
 fn surface_matching_fills_the_bucket_on_carved_ground() {
-    let (down, back) = (shipped(DigType::Downward), shipped(DigType::Backward));
-    let pair = infer::NetworkPair {
-        downward: down.network().unwrap(),
-        backward: back.network().unwrap(),
-    };
+    let pair = shipped_pair();
     let cfg = Config::default();
     let planner = Planner::new(&cfg, &PlannerSettings::default()).unwrap();
     let mut state = planner.start(&TrenchTask::reference('D').unwrap()).unwrap();

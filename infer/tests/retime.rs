@@ -183,6 +183,28 @@ fn network_dig(cfg: &Config, u: [f64; 6], downward: bool, k: f64) -> Option<(Dig
     Some((q, rescale(&DigParams::from_array(y), k)))
 }
 
+/// A random query (six uniforms), its type and a time stretch of the
+/// shipped network's answer, for [`network_dig`].
+fn network_case() -> impl Strategy<Value = ([f64; 6], bool, f64)> {
+    (
+        prop::array::uniform6(0.0f64..1.0),
+        any::<bool>(),
+        0.7f64..1.4,
+    )
+}
+
+/// [`network_dig`] under the default model, on flat ground at its H.
+fn network_case_dig(
+    u: [f64; 6],
+    downward: bool,
+    k: f64,
+) -> Option<(Config, DigQuery, DigParams, Terrain)> {
+    let cfg = Config::default();
+    let (q, y) = network_dig(&cfg, u, downward, k)?;
+    let terrain = flat(&cfg, q.surface);
+    Some((cfg, q, y, terrain))
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
 
@@ -192,15 +214,11 @@ proptest! {
     /// model says so.
     #[test]
     fn retiming_never_makes_a_dig_worse(
-        u in prop::array::uniform6(0.0f64..1.0),
-        downward in any::<bool>(),
-        k in 0.7f64..1.4,
+        (u, downward, k) in network_case(),
     ) {
-        let cfg = Config::default();
-        let dig = network_dig(&cfg, u, downward, k);
-        prop_assume!(dig.is_some(), "unreachable query");
-        let (q, y) = dig.unwrap();
-        let terrain = flat(&cfg, q.surface);
+        let case = network_case_dig(u, downward, k);
+        prop_assume!(case.is_some(), "unreachable query");
+        let (cfg, q, y, terrain) = case.unwrap();
         let mut buf = CarveBuffer::default();
         let before = assess(&cfg, &q.task(), &y, ground(&terrain), &mut buf, None).unwrap();
         let r = retime(&cfg, &q.task(), &y, ground(&terrain), &mut buf, None, &mut Box::new(RetimeWork::default())).unwrap();
@@ -225,15 +243,11 @@ proptest! {
     /// trajectory alone are the evaluation's, bit for bit.
     #[test]
     fn stretching_first_ends_where_retiming_does(
-        u in prop::array::uniform6(0.0f64..1.0),
-        downward in any::<bool>(),
-        k in 0.7f64..1.4,
+        (u, downward, k) in network_case(),
     ) {
-        let cfg = Config::default();
-        let dig = network_dig(&cfg, u, downward, k);
-        prop_assume!(dig.is_some(), "unreachable query");
-        let (q, y) = dig.unwrap();
-        let terrain = flat(&cfg, q.surface);
+        let case = network_case_dig(u, downward, k);
+        prop_assume!(case.is_some(), "unreachable query");
+        let (cfg, q, y, terrain) = case.unwrap();
         let g = ground(&terrain);
         let mut buf = CarveBuffer::default();
         let mut work = Box::new(RetimeWork::default());

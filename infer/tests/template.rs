@@ -5,13 +5,11 @@
 
 use infer::plan::Plan;
 use infer::repair::assess;
-use infer::template::{
-    DIG_VARS, TemplateFile, TemplateSettings, TemplateWork, decode, encode, params_from_bends,
-};
+use infer::sequence::{DIG_VARS, bends_of, decode, encode, params_from_bends};
+use infer::template::{TemplateFile, TemplateSettings, TemplateWork};
 use infer::{
     CarveBuffer, Config, Ground, PlanError, Planner, PlannerSettings, Template, TrenchTask,
 };
-use proptest::prelude::*;
 use std::path::Path;
 
 #[path = "common/counting.rs"]
@@ -98,7 +96,7 @@ fn bends_and_durations_round_trip() {
     let p = params_from_bends([0.3, -0.2, 0.05], 7.0);
     let half6 = (3.5f64).powi(6);
     assert!((p.a6[0] * half6 - 0.3).abs() < 1e-15);
-    assert!((infer::template::bends_of(&p)[1] + 0.2).abs() < 1e-15);
+    assert!((bends_of(&p)[1] + 0.2).abs() < 1e-15);
 }
 
 #[test]
@@ -220,34 +218,48 @@ fn bad_input_gives_an_error() {
     }
 }
 
-proptest! {
-    #![proptest_config(ProptestConfig { cases: 8, ..ProptestConfig::default() })]
-    /// Random tasks across the library's range: no panic, and a plan, when
-    /// there is one, replays feasible within the guard and the bound.
-    #[test]
-    fn random_tasks_never_return_infeasible_digs(
-        length in 0.45f64..0.75,
-        depth in 0.08f64..0.2,
-        b1 in 40.0f64..70.0,
-        b2 in 40.0f64..70.0,
-        far_edge in 1.0f64..1.08,
-    ) {
-        let planner = planner();
-        let task = TrenchTask { far_edge, ..TrenchTask::new_deg(length, depth, b1, b2) };
-        if planner.digs_for(&task).is_ok() {
-            let settings = TemplateSettings { neighbours: 1, max_evaluations: 120, ..quick() };
-            match planner.plan_from_templates(&task, &shipped_templates(), &settings) {
-                Ok(plan) => {
-                    prop_assert!(plan.verify(&planner).is_ok());
-                    let spent: usize = plan.digs.iter().map(|r| r.dig.evaluations).sum();
-                    prop_assert!(spent <= settings.max_evaluations);
-                }
-                // It may say why it cannot: a dig that stays infeasible or out of reach.
-                Err(e) => prop_assert!(
-                    matches!(e, PlanError::Template { .. } | PlanError::Pose { .. }),
-                    "{e}"
-                ),
+/// Of the twelve tasks below, how many the small budget plans today (the
+/// other two end on a dig within 1 % of a limit): fewer is a regression.
+const MIN_PLANNED: usize = 10;
+
+/// Twelve tasks spread over the library's range (a fixed grid, so the
+/// count below is exact), with the tests' small budget: every plan made
+/// replays feasible within the guard and the bound, every failure names
+/// the dig and the constraint it breaks, and most tasks are planned.
+#[test]
+fn tasks_across_the_range_give_feasible_plans_or_named_failures() {
+    let planner = planner();
+    let templates = shipped_templates();
+    let settings = quick();
+    let (mut planned, mut failed) = (0, Vec::new());
+    for k in 0..12 {
+        let f = |i: usize, n: usize| ((k * 7 + i * 5) % n) as f64 / (n - 1) as f64;
+        let task = TrenchTask {
+            far_edge: 1.0 + 0.08 * f(4, 5),
+            ..TrenchTask::new_deg(
+                0.50 + 0.25 * f(0, 4),
+                0.10 + 0.10 * f(1, 3),
+                40.0 + 30.0 * f(2, 4),
+                40.0 + 30.0 * f(3, 3),
+            )
+        };
+        assert!(planner.digs_for(&task).is_ok(), "{task:?}");
+        match planner.plan_from_templates(&task, &templates, &settings) {
+            Ok(plan) => {
+                assert!(plan.verify(&planner).is_ok(), "{task:?}");
+                let spent: usize = plan.digs.iter().map(|r| r.dig.evaluations).sum();
+                assert!(spent <= settings.max_evaluations, "{task:?}: {spent}");
+                planned += 1;
             }
+            Err(e @ (PlanError::Template { .. } | PlanError::Pose { .. })) => {
+                assert!(e.dig().is_some(), "{e}");
+                failed.push(e.to_string());
+            }
+            Err(e) => panic!("{task:?}: unexpected error {e}"),
         }
     }
+    assert!(
+        planned >= MIN_PLANNED,
+        "{planned} of 12 planned: {failed:#?}"
+    );
 }

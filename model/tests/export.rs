@@ -2,10 +2,13 @@
 //! Y as burn's own forward pass (issue 5: to 1e-5), through the JSON file.
 
 use burn::prelude::*;
-use burn::tensor::{Distribution, FloatDType, TensorData};
+use burn::tensor::{Distribution, FloatDType};
 use infer::DigType;
 use infer::network::NetworkFile;
 use model::network::{DigNet, DigNetConfig, Normalisation};
+
+#[path = "common/gap.rs"]
+mod gap;
 
 /// The f64 device, configured once per process (tests run in parallel).
 fn device_f64() -> Device {
@@ -50,36 +53,7 @@ fn check(kind: DigType) {
     assert_eq!(file.widths, DigNetConfig::source(kind).widths());
     let network = file.network().expect("a valid network");
 
-    let n = 64;
-    let norm = net.normalisation();
-    // Random queries around the normalisation, ±3σ.
-    let u = Tensor::<2>::random([n, 7], Distribution::Uniform(-3.0, 3.0), &device)
-        .into_data()
-        .try_into_vec_as::<f64>()
-        .unwrap();
-    let x: Vec<f64> = u
-        .iter()
-        .enumerate()
-        .map(|(k, v)| norm.x_mean[k % 7] + v * norm.x_std[k % 7])
-        .collect();
-    let y_burn = net
-        .predict(Tensor::from_data(
-            TensorData::new(x.clone(), [n, 7]),
-            &device,
-        ))
-        .into_data()
-        .try_into_vec_as::<f64>()
-        .unwrap();
-    let mut worst = 0.0f64;
-    for i in 0..n {
-        let xi: [f64; 7] = x[i * 7..(i + 1) * 7].try_into().unwrap();
-        let y = network.forward(&xi).expect("finite output");
-        for j in 0..4 {
-            // Compare in normalised units: |a_i6| ~ 1e-5 in SI, T ~ 7 s.
-            let err = (y[j] - y_burn[i * 4 + j]).abs() / norm.y_std[j];
-            worst = worst.max(err);
-        }
-    }
+    let worst = gap::max_normalised_gap(&net, &network, &device, 64);
     assert!(worst <= 1e-5, "{kind:?}: max |Δy|/σ_y = {worst:e}");
 }
 

@@ -7,6 +7,7 @@ use crate::error::TrainError;
 use burn::prelude::*;
 use burn::tensor::TensorData;
 use dataset_gen::dataset::read_dataset;
+use infer::rng::SplitMix64;
 use infer::{DigQuery, DigType};
 use std::path::{Path, PathBuf};
 
@@ -108,38 +109,11 @@ pub fn load(files: &[PathBuf], kind: DigType) -> Result<Vec<Sample>, TrainError>
     Ok(out)
 }
 
-/// SplitMix64: a tiny, stable generator for shuffles (its sequence never
-/// changes with a dependency update).
-#[derive(Debug, Clone)]
-pub struct SplitMix(u64);
-
-impl SplitMix {
-    pub fn new(seed: u64) -> Self {
-        SplitMix(seed)
-    }
-
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Fisher–Yates shuffle.
-    pub fn shuffle<T>(&mut self, v: &mut [T]) {
-        for i in (1..v.len()).rev() {
-            let j = (self.next_u64() % (i as u64 + 1)) as usize;
-            v.swap(i, j);
-        }
-    }
-}
-
 /// A seed derived from (seed, stream, n): every use of randomness gets its own stream.
 pub fn derive_seed(seed: u64, stream: u64, n: u64) -> u64 {
-    let mut r = SplitMix::new(seed ^ stream.wrapping_mul(0xA24B_AED4_963E_E407));
+    let mut r = SplitMix64::new(seed ^ stream.wrapping_mul(0xA24B_AED4_963E_E407));
     r.next_u64();
-    let mut r = SplitMix::new(r.next_u64() ^ n.wrapping_mul(0x9FB2_1C65_1E98_DF25));
+    let mut r = SplitMix64::new(r.next_u64() ^ n.wrapping_mul(0x9FB2_1C65_1E98_DF25));
     r.next_u64()
 }
 
@@ -162,7 +136,7 @@ pub fn split(
         DigType::Downward => 1,
         DigType::Backward => 2,
     };
-    SplitMix::new(derive_seed(seed, 0x5_1117, stream)).shuffle(&mut samples);
+    SplitMix64::new(derive_seed(seed, 0x5_1117, stream)).shuffle(&mut samples);
     let n = samples.len();
     let n_test = (n as f64 * cfg.test_fraction).round() as usize;
     let n_val = (n as f64 * cfg.validation_fraction).round() as usize;

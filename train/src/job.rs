@@ -6,7 +6,7 @@ use crate::error::TrainError;
 use crate::report::{self, DatasetInfo, Report, VariantReport};
 use crate::training::{self, RunPaths, TrainOutcome, make_device};
 use burn::store::{BurnpackStore, ModuleSnapshot};
-use dataset_gen::lock::FolderLock;
+use dataset_gen::jobs::FolderLock;
 use std::path::{Path, PathBuf};
 
 /// Where a job reads and writes.

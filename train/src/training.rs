@@ -9,7 +9,7 @@ use crate::error::TrainError;
 use burn::optim::{AdamConfig, GradientsParams};
 use burn::prelude::*;
 use burn::tensor::FloatDType;
-use dataset_gen::batch::progress_bar;
+use dataset_gen::jobs::progress_bar;
 use infer::DigType;
 use model::network::{DigNet, Normalisation};
 use model::physics::{LossTerms, LossWeights, dig_figures, losses};
@@ -327,7 +327,8 @@ pub fn train(
         }
         let lr = learning_rate(cfg, epoch);
         order.sort_unstable();
-        data::SplitMix::new(derive_seed(cfg.seed, 0xE90C, epoch as u64)).shuffle(&mut order);
+        infer::rng::SplitMix64::new(derive_seed(cfg.seed, 0xE90C, epoch as u64))
+            .shuffle(&mut order);
         let mut train_terms = TermValues::default();
         for (b, chunk) in order.chunks(cfg.optimiser.batch_size).enumerate() {
             let (x, y) = data::batch(&split.train, chunk, &device);

@@ -480,7 +480,8 @@ fn main_inner() -> Result<(), Error> {
             let (task, title) = task.read().map_err(Error::BadArgument)?;
             let planner = default_planner()?;
             let settings = sequence.settings();
-            let bar = batch::progress_bar(settings.evaluations(), "sequences", !no_progress);
+            let bar =
+                dataset_gen::jobs::progress_bar(settings.evaluations(), "sequences", !no_progress);
             let plan = sequence::optimise_task(&planner, &task, &settings, seed, Some(&bar))?;
             bar.finish_and_clear();
             print(&write_plan(
@@ -503,7 +504,8 @@ fn main_inner() -> Result<(), Error> {
                 sequence: sequence.settings(),
                 ..Default::default()
             };
-            let bar = batch::progress_bar(settings.evaluations(), "sequences", !no_progress);
+            let bar =
+                dataset_gen::jobs::progress_bar(settings.evaluations(), "sequences", !no_progress);
             let report = library::build(&planner, &settings, &out, Some(&bar))?;
             bar.finish_and_clear();
             print(&serde_json::json!({ "out": out, "report": report }))

@@ -63,3 +63,50 @@ pub extern "C" fn infer_template_task_a_digs() -> i32 {
         Err(_) => -1,
     }
 }
+
+/// Height of a tilted-plane pile surface at its centre, or −1 on error;
+/// shows the perceived pile surface evaluates without `std`.
+#[unsafe(no_mangle)]
+pub extern "C" fn infer_pile_height_at_centre() -> f64 {
+    let Ok(domain) = infer::PileDomain::new([0.0, 0.5], [-0.25, 0.25]) else { return -1.0 };
+    let mut c = [[0.0; infer::pile::PILE_GRID]; infer::pile::PILE_GRID];
+    for (j, row) in c.iter_mut().enumerate() {
+        for (k, v) in row.iter_mut().enumerate() {
+            *v = 0.84 * domain.control_point(j, k)[0];
+        }
+    }
+    let Ok(s) = infer::PileSurface::new(domain, c, 1.0) else { return -1.0 };
+    s.height(0.25, 0.0).unwrap_or(-1.0)
+}
+
+/// A crawler move planned by the improved potential field around one rock
+/// into a caller-owned buffer, then one fuzzy controller output; returns
+/// the path's point count, or −1 on error. Shows `infer::crawler` builds
+/// without `std` or a heap.
+#[unsafe(no_mangle)]
+pub extern "C" fn infer_crawler_plan_points() -> i32 {
+    use infer::crawler::field::{plan, FieldParams, Method};
+    let Ok(rock) = infer::crawler::Obstacle::circle([10.0, 0.3], 1.5) else { return -1 };
+    let mut path = [[0.0; 2]; 1024];
+    let f = FieldParams::default();
+    let u = infer::crawler::fuzzy::infer(0.1, -3.0);
+    match plan(Method::Improved, [0.0, 0.0], [20.0, 0.0], [1.0, 0.0], &[rock], &f, &mut path) {
+        Ok(raw) if u.is_finite() => raw.len as i32,
+        _ => -1,
+    }
+}
+
+/// 1 when the roadheader's head at (θ1 −90°, θ2 −30°, d 0.25 m) is a
+/// cuttable point of the source's left half-section, 0 when not, −1 on
+/// bad input; shows the roadheader's kinematics build without `std`.
+#[unsafe(no_mangle)]
+pub extern "C" fn infer_roadheader_cuttable() -> i32 {
+    use infer::roadheader::{Joints, Placement, Roadheader, Section, Side};
+    let Ok(section) = Section::rectangle(5.0, 3.0, 20.0, 1.0) else { return -1 };
+    let machine = Roadheader::facing(&section);
+    let q = Joints { theta1: infer::deg(-90.0), theta2: infer::deg(-30.0), d: 0.25 };
+    match machine.forward(&q) {
+        Ok(pose) => (section.half(Side::Left).place(&machine.head, &pose) == Placement::Cuttable) as i32,
+        Err(_) => -1,
+    }
+}

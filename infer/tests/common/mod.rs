@@ -51,3 +51,15 @@ pub fn shipped(kind: infer::DigType) -> infer::network::NetworkFile {
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     infer::network::NetworkFile::from_json(&text).unwrap()
 }
+
+/// Both shipped networks, read once per test binary.
+pub fn shipped_pair() -> infer::NetworkPair<'static> {
+    use infer::DigType::{Backward, Downward};
+    static FILES: std::sync::OnceLock<[infer::network::NetworkFile; 2]> =
+        std::sync::OnceLock::new();
+    let [down, back] = FILES.get_or_init(|| [shipped(Downward), shipped(Backward)]);
+    infer::NetworkPair {
+        downward: down.network().unwrap(),
+        backward: back.network().unwrap(),
+    }
+}

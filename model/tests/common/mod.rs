@@ -23,30 +23,7 @@ pub fn device(f64: bool) -> Device {
     d.clone()
 }
 
-/// SplitMix64: deterministic and dependency-free.
-#[derive(Debug)]
-pub struct Rng(u64);
-
-impl Rng {
-    pub fn new(seed: u64) -> Self {
-        Rng(seed)
-    }
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// Uniform in [0, 1).
-    pub fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    /// Uniform in [lo, hi).
-    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-}
+pub use infer::rng::SplitMix64 as Rng;
 
 /// One dig: the query, the decision variables, and `infer`'s exact report and
 /// per-sample dug volume (m³) on a surface flat at H.
@@ -94,7 +71,7 @@ pub fn random_digs(cfg: &Config, kind: DigType, count: usize, seed: u64) -> Vec<
     let mut rng = Rng::new(seed);
     let mut out = Vec::with_capacity(count);
     while out.len() < count {
-        let u: [f64; 6] = core::array::from_fn(|_| rng.unit());
+        let u: [f64; 6] = core::array::from_fn(|_| rng.uniform());
         let Ok(query) = ranges.query_at(cfg, kind, u) else {
             continue;
         };

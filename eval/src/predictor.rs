@@ -9,11 +9,11 @@
 //! `derive_seed(seed, k)`, so a plan made with it depends only on the seed
 //! and the sequence of queries.
 
-use crate::algorithms::{AnyAlgorithm, Pso};
-use crate::dig_problem::{DigBounds, DigProblem, DigSolution, objective_for, solve_problem};
-use crate::error::Error;
-use crate::rng::{derive_seed, rng_from_seed};
-use crate::runner::Budget;
+use dataset_gen::Error;
+use dataset_gen::algorithms::{AnyAlgorithm, Pso};
+use dataset_gen::dig_problem::{DigBounds, DigProblem, DigSolution, objective_for, solve_problem};
+use dataset_gen::rng::{derive_seed, rng_from_seed};
+use dataset_gen::runner::Budget;
 use infer::{Config, DigParams, DigPredictor, DigQuery, Ground};
 
 /// Iterations (generations) of the source's settings.

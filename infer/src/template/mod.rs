@@ -1,0 +1,286 @@
+//! Plans from templates: whole-task plans optimised offline, carried over
+//! to a new task and refitted to it within a bounded number of exact
+//! evaluations (spec §9).
+//!
+//! Why: the greedy planner ([`crate::planner`]) chooses one dig at a time,
+//! and a dig that takes a full bucket where it is cheapest strands floor
+//! layers and wall wedges that no later dig can fill a bucket from. Plans
+//! whose digs fit the design together exist (sequence PSO over every dig at
+//! once, `dataset_gen optimise-task`), but cost tens of seconds. A
+//! [`Template`] is such a plan, kept as its digs' sequence variables
+//! ([`DigVars`]). A new task takes its nearest templates, carries each over
+//! to its design (start x and chord stretched from edge to edge), keeps the
+//! best as a seed and refits it by a compass search, every variable of every
+//! dig in turn, whose work is bounded by [`TemplateSettings::max_evaluations`]
+//! (a controller's worst case). A move of dig k replays digs k.. only: the
+//! surfaces the digs before it left are kept.
+//!
+//! Every dig of the result is feasible under the exact model and within the
+//! design guard, or the result is an error naming the constraint. The
+//! machine stays at its first position, so a task must lie within reach.
+//! Nothing allocates: the work lives in a caller-owned [`TemplateWork`].
+
+// Errors carry the violated constraint by value: no heap in `no_std`, so no Box.
+#![allow(clippy::result_large_err)]
+
+mod commit;
+#[cfg(feature = "std")]
+mod file;
+mod fit;
+mod polish;
+mod repair;
+mod search;
+mod work;
+
+#[cfg(feature = "std")]
+pub use file::TemplateFile;
+
+use crate::config::Config;
+use crate::error::Error;
+use crate::repair::DesignGuard;
+use crate::retime::RetimeWork;
+use crate::sequence::{DIG_VARS, DigVars, MAX_NEIGHBOURS};
+use crate::terrain::{CarveBuffer, Terrain};
+use crate::trench::{DesignProfile, TrenchTask};
+use serde::{Deserialize, Serialize};
+
+/// Most digs one template holds.
+pub const MAX_TEMPLATE_DIGS: usize = 6;
+
+/// The least [`TemplateSettings::max_evaluations`]: the seeds' first
+/// plays, the best one's replay and the fallback's (48 + 6 + 6 at most)
+/// always fit, and some refit.
+pub const MIN_EVALUATIONS: usize = 100;
+
+/// A whole-task plan kept as its digs' variables, with the task it was
+/// made for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "std",
+    derive(Serialize, Deserialize),
+    serde(try_from = "TemplateRecord", into = "TemplateRecord")
+)]
+pub struct Template {
+    pub task: TrenchTask,
+    digs: [DigVars; MAX_TEMPLATE_DIGS],
+    count: usize,
+}
+
+impl Template {
+    /// Error unless there are 1 to [`MAX_TEMPLATE_DIGS`] digs of finite variables.
+    pub fn new(task: TrenchTask, digs: &[DigVars]) -> Result<Self, Error> {
+        if digs.is_empty() || digs.len() > MAX_TEMPLATE_DIGS {
+            return Err(Error::BadConfig {
+                field: "template digs (1 to MAX_TEMPLATE_DIGS)",
+            });
+        }
+        for v in digs {
+            crate::error::ensure_finite("template dig variable", v)?;
+        }
+        crate::error::ensure_finite(
+            "template task",
+            &[
+                task.length,
+                task.depth,
+                task.slope_far,
+                task.slope_near,
+                task.far_edge,
+            ],
+        )?;
+        let mut all = [[0.0; DIG_VARS]; MAX_TEMPLATE_DIGS];
+        all[..digs.len()].copy_from_slice(digs);
+        Ok(Template {
+            task,
+            digs: all,
+            count: digs.len(),
+        })
+    }
+
+    pub fn digs(&self) -> &[DigVars] {
+        &self.digs[..self.count]
+    }
+
+    /// Its digs carried over to `design`: start x and chord stretched with
+    /// the design from edge to edge; type, end lift, bucket attitudes,
+    /// bends and T kept.
+    pub fn carried_to(&self, cfg: &Config, design: &DesignProfile) -> [DigVars; MAX_TEMPLATE_DIGS] {
+        let from = DesignProfile::new(cfg, &self.task);
+        let k = (design.far_edge - design.near_edge) / (from.far_edge - from.near_edge);
+        let mut out = self.digs;
+        for v in &mut out[..self.count] {
+            v[1] = design.near_edge + (v[1] - from.near_edge) * k;
+            v[2] *= k;
+        }
+        out
+    }
+}
+
+/// How a template plan is made.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TemplateSettings {
+    /// The nearest templates carried over and tried as seeds (1 to [`MAX_NEIGHBOURS`]).
+    pub neighbours: usize,
+    /// Most exact dig evaluations of the whole task, seeds included: the
+    /// bound on its planning time (each costs 15–30 µs here). The default,
+    /// 4,800 (70 ms on mean here), gave the least under-dug area over the
+    /// 24 evaluation tasks of 300–9,600; 1,200 takes a third of the time
+    /// for about one point more.
+    pub max_evaluations: usize,
+    /// Weight of the digs' mean objective next to the under- plus
+    /// over-dug fraction that the refit minimises.
+    pub weight_objective: f64,
+    /// The share of `max_evaluations` spent refitting each seed in turn
+    /// (evenly) before the best of them gets the rest.
+    pub seed_share: f64,
+    /// A refit ends when every step is below this fraction of its
+    /// variable's range.
+    pub min_step: f64,
+    /// Retime the plan's digs at the end ([`crate::retime`]): each one's T
+    /// alone changes (its bends, and so its path and carving, stay), to
+    /// the lowest dig objective under every limit; kept if the replayed
+    /// plan holds every limit and its profile is no worse. Two evaluations
+    /// per dig, within `max_evaluations`.
+    pub retime: bool,
+}
+
+impl Default for TemplateSettings {
+    fn default() -> Self {
+        TemplateSettings {
+            neighbours: 4,
+            max_evaluations: 4800,
+            weight_objective: 0.0,
+            seed_share: 0.5,
+            min_step: 1e-3,
+            retime: true,
+        }
+    }
+}
+
+impl TemplateSettings {
+    pub fn validate(&self) -> Result<(), Error> {
+        let ok = (1..=MAX_NEIGHBOURS).contains(&self.neighbours)
+            && self.max_evaluations >= MIN_EVALUATIONS
+            && self.weight_objective >= 0.0
+            && self.weight_objective.is_finite()
+            && (0.0..=1.0).contains(&self.seed_share)
+            && self.min_step > 0.0
+            && self.min_step < 1.0;
+        if ok {
+            Ok(())
+        } else {
+            Err(Error::BadConfig {
+                field: "template settings (neighbours 1–8, max_evaluations ≥ 100, weight_objective ≥ 0, seed_share in [0, 1], min_step in (0, 1))",
+            })
+        }
+    }
+}
+
+/// A seed's refitted sequence.
+#[derive(Clone, Copy)]
+struct Champion {
+    template: usize,
+    count: usize,
+    vars: [DigVars; MAX_TEMPLATE_DIGS],
+    violation: f64,
+    value: f64,
+}
+
+/// A signed step per variable of each dig (the sign: the direction tried first).
+type Steps = [DigVars; MAX_TEMPLATE_DIGS];
+
+/// Per dig of a played sequence: its violation and dig objective.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct DigScore {
+    violation: f64,
+    objective: f64,
+}
+
+/// Nodes of the stretch of terrain a template plan may carve (2.56 m at
+/// the default spacing): only it is kept per dig, so the work stays small.
+pub const WINDOW: usize = 1024;
+/// Where that stretch starts, before the design's near edge \[m\].
+const WINDOW_BEFORE: f64 = 0.9;
+/// How far it must reach past the design's far edge \[m\]: starts may lie
+/// 3 cm past it, and the bucket swings out beyond the start.
+const WINDOW_AFTER: f64 = 0.4;
+
+/// One sequence and the surfaces it leaves, over the window: `after[j]`
+/// is the surface before dig j (`after[0]` the task's start),
+/// `after[count]` the final one.
+#[derive(Clone)]
+struct Played {
+    count: usize,
+    vars: [DigVars; MAX_TEMPLATE_DIGS],
+    score: [DigScore; MAX_TEMPLATE_DIGS],
+    after: [[f64; WINDOW]; MAX_TEMPLATE_DIGS + 1],
+    value: f64,
+    violation: f64,
+}
+
+/// The working memory of template planning, reusable across tasks (about
+/// 260 kB: keep it off small stacks, e.g. in a `Box` or a static).
+pub struct TemplateWork {
+    best: Played,
+    candidate: Played,
+    /// The whole surface; outside the window it is the task's start.
+    terrain: Terrain,
+    /// The window's first node and length.
+    window: (usize, usize),
+    carve: CarveBuffer,
+    design: DesignProfile,
+    guard: DesignGuard,
+    task: TrenchTask,
+    evaluations: usize,
+    dig_evaluations: [usize; MAX_TEMPLATE_DIGS],
+    /// The stretch retiming gave each dig of the last plan (1: none).
+    stretch: [f64; MAX_TEMPLATE_DIGS],
+    retime: RetimeWork,
+    /// Digs of the last plan if it succeeded, else 0.
+    planned: usize,
+    seed: usize,
+}
+
+impl core::fmt::Debug for TemplateWork {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("TemplateWork")
+            .field("task", &self.task)
+            .field("digs", &self.best.count)
+            .field("evaluations", &self.evaluations)
+            .finish()
+    }
+}
+
+/// The file form of a template (`std`): its digs as a list.
+#[cfg(feature = "std")]
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TemplateRecord {
+    task: TrenchTask,
+    digs: std::vec::Vec<DigVars>,
+}
+
+#[cfg(feature = "std")]
+impl TryFrom<TemplateRecord> for Template {
+    type Error = Error;
+    fn try_from(r: TemplateRecord) -> Result<Self, Error> {
+        Template::new(r.task, &r.digs)
+    }
+}
+
+#[cfg(feature = "std")]
+impl From<Template> for TemplateRecord {
+    fn from(t: Template) -> Self {
+        TemplateRecord {
+            task: t.task,
+            digs: t.digs().to_vec(),
+        }
+    }
+}
+
+/// Which sequence of the work.
+#[derive(Clone, Copy)]
+enum Side {
+    Best,
+    Candidate,
+}

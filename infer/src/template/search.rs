@@ -1,0 +1,174 @@
+//! Search: the task's working memory made ready, then the nearest
+//! templates carried over as seeds, each refitted for an even share of
+//! the bound; and the plan's phases in order.
+
+use super::{
+    Champion, MAX_TEMPLATE_DIGS, Played, Steps, Template, TemplateSettings, TemplateWork, WINDOW,
+    WINDOW_AFTER, WINDOW_BEFORE,
+};
+use crate::planner::{PlanError, Planner};
+use crate::sequence::{DIG_VARS, DigVars, dig_box, initial_step, nearest};
+use crate::trench::{DesignProfile, TaskError, TrenchTask};
+
+impl Champion {
+    fn of(template: usize, p: &Played) -> Self {
+        Champion {
+            template,
+            count: p.count,
+            vars: p.vars,
+            violation: p.violation,
+            value: p.value,
+        }
+    }
+
+    /// Value plus violation: how seeds' refits are ranked.
+    fn penalised(&self) -> f64 {
+        self.value + self.violation
+    }
+}
+
+/// What the seeds' search hands on: the best refit of a seed by value
+/// plus violation with the steps it reached, and the best feasible one.
+pub(super) struct Seeds {
+    pub champion: (Champion, Steps),
+    pub fallback: Option<Champion>,
+}
+
+impl TemplateWork {
+    /// Plans `task` from the nearest of `templates`: see the module doc.
+    /// On success the digs are read with [`Self::dig`].
+    pub fn plan(
+        &mut self,
+        planner: &Planner,
+        task: &TrenchTask,
+        templates: &[Template],
+        settings: &TemplateSettings,
+    ) -> Result<(), PlanError> {
+        self.planned = 0;
+        settings.validate()?;
+        let expected = planner.digs_for(task)?;
+        if templates.is_empty() {
+            return Err(PlanError::NoTemplate);
+        }
+        self.start(planner, task)?;
+        let seeds = self.search(planner, templates, expected, settings)?;
+        self.fit(planner, seeds.champion, settings);
+        if let Some(f) = seeds.fallback.filter(|_| self.best.violation > 0.0) {
+            self.replay(planner, &f, settings);
+        }
+        self.check(planner)?;
+        if settings.retime {
+            self.retime(planner, settings);
+        }
+        self.planned = self.best.count;
+        Ok(())
+    }
+
+    /// The working memory made ready for `task`: its design and guard, the
+    /// window of terrain its digs may carve, no evaluations spent.
+    fn start(&mut self, planner: &Planner, task: &TrenchTask) -> Result<(), PlanError> {
+        let cfg = planner.config();
+        self.task = *task;
+        self.design = DesignProfile::new(cfg, task);
+        self.guard = planner.guard(&self.design);
+        self.evaluations = 0;
+        self.dig_evaluations = [0; MAX_TEMPLATE_DIGS];
+        self.stretch = [1.0; MAX_TEMPLATE_DIGS];
+        self.terrain = planner.initial_terrain(&self.design)?;
+        let t = &self.terrain;
+        let j0 = ((self.design.near_edge - WINDOW_BEFORE - t.x0()) / t.dx()).max(0.0) as usize;
+        let j0 = j0.min(t.len() - 1);
+        let w = WINDOW.min(t.len() - j0);
+        self.window = (j0, w);
+        let max_length = t.x_at(j0 + w - 1) - WINDOW_AFTER - self.design.near_edge;
+        if task.length > max_length {
+            return Err(TaskError::TooLong {
+                length: task.length,
+                max_length,
+            }
+            .into());
+        }
+        self.best.after[0][..w].copy_from_slice(&t.heights()[j0..j0 + w]);
+        self.candidate.after[0] = self.best.after[0];
+        self.best.violation = f64::INFINITY;
+        self.best.value = f64::INFINITY;
+        Ok(())
+    }
+
+    /// Each of the nearest templates, carried over, is refitted for an
+    /// even share of `seed_share` of the budget. The one whose refit is
+    /// best by value plus violation (a near-feasible sequence of the right
+    /// dig count beats a feasible one that leaves material; ties: the
+    /// nearer) is then refitted with the rest, from the steps it reached
+    /// ([`Self::fit`]); if that ends infeasible, the best feasible refit
+    /// of a seed is the plan.
+    fn search(
+        &mut self,
+        planner: &Planner,
+        templates: &[Template],
+        expected: usize,
+        settings: &TemplateSettings,
+    ) -> Result<Seeds, PlanError> {
+        let cfg = planner.config();
+        let (lo, hi) = dig_box(cfg, &self.design);
+        let clamp = |v: &mut DigVars| {
+            for i in 0..DIG_VARS {
+                v[i] = v[i].clamp(lo[i], hi[i]);
+            }
+        };
+        let stored = templates.iter().map(|t| (t.task, t.count));
+        let near = nearest(stored, &self.task, expected, settings.neighbours);
+        let seeds = near.iter().flatten().count();
+        let per_seed = (settings.seed_share
+            * (settings.max_evaluations - last_stage(settings)) as f64
+            / seeds as f64) as usize;
+        let mut champion: Option<(Champion, Steps)> = None;
+        let mut fallback: Option<Champion> = None;
+        for (rank, i) in near.into_iter().flatten().enumerate() {
+            let t = &templates[i];
+            let c = &mut self.candidate;
+            c.count = t.count;
+            c.vars = t.carried_to(cfg, &self.design);
+            c.vars[..t.count].iter_mut().for_each(clamp);
+            self.play(planner, 0, settings.weight_objective, false);
+            core::mem::swap(&mut self.best, &mut self.candidate);
+            let limit = (rank + 1) * per_seed;
+            let mut steps = [initial_step(&lo, &hi); MAX_TEMPLATE_DIGS];
+            self.refit(planner, &mut steps, limit, settings);
+            let b = Champion::of(i, &self.best);
+            if champion
+                .as_ref()
+                .is_none_or(|(c, _)| b.penalised() < c.penalised())
+            {
+                champion = Some((b, steps));
+            }
+            if b.violation == 0.0 && fallback.as_ref().is_none_or(|f| b.value < f.value) {
+                fallback = Some(b);
+            }
+        }
+        Ok(Seeds {
+            champion: champion.ok_or(PlanError::NoTemplate)?,
+            fallback,
+        })
+    }
+
+    /// Makes `c` the best sequence again.
+    pub(super) fn replay(&mut self, planner: &Planner, c: &Champion, settings: &TemplateSettings) {
+        self.seed = c.template;
+        self.candidate.count = c.count;
+        self.candidate.vars = c.vars;
+        self.play(planner, 0, settings.weight_objective, false);
+        core::mem::swap(&mut self.best, &mut self.candidate);
+    }
+}
+
+/// Evaluations the last stage needs whatever the seeds spent: the best
+/// seed's replay and the fallback's, and retiming's record and replay.
+pub(super) fn last_stage(settings: &TemplateSettings) -> usize {
+    (2 + retiming(settings)) * MAX_TEMPLATE_DIGS
+}
+
+/// Evaluations per dig that retiming takes: its record and the replay.
+pub(super) fn retiming(settings: &TemplateSettings) -> usize {
+    if settings.retime { 2 } else { 0 }
+}

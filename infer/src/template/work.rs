@@ -1,0 +1,166 @@
+//! The working memory's sequences: playing a candidate from one of its
+//! digs on, over the window of terrain the plan may carve.
+
+use super::{DigScore, MAX_TEMPLATE_DIGS, Played, Side, TemplateWork, WINDOW};
+use crate::dig::Reference;
+use crate::error::Error;
+use crate::planner::Planner;
+use crate::retime::RetimeWork;
+use crate::sequence::{DIG_VARS, UNEVALUABLE, play_dig_to_beat};
+use crate::terrain::{CarveBuffer, Terrain};
+use crate::trench::{DesignProfile, ProfileMetrics, TrenchTask};
+
+impl TemplateWork {
+    /// Fresh working memory on a terrain for `planner` (any task).
+    pub fn new(planner: &Planner) -> Result<Self, Error> {
+        let task = TrenchTask::reference('A').ok_or(Error::BadConfig { field: "task" })?;
+        let design = DesignProfile::new(planner.config(), &task);
+        let terrain = planner.initial_terrain(&design)?;
+        let played = Played {
+            count: 0,
+            vars: [[0.0; DIG_VARS]; MAX_TEMPLATE_DIGS],
+            score: [DigScore::default(); MAX_TEMPLATE_DIGS],
+            after: [[0.0; WINDOW]; MAX_TEMPLATE_DIGS + 1],
+            value: f64::INFINITY,
+            violation: f64::INFINITY,
+        };
+        Ok(TemplateWork {
+            candidate: played.clone(),
+            best: played,
+            terrain,
+            window: (0, 0),
+            carve: CarveBuffer::default(),
+            guard: planner.guard(&design),
+            design,
+            task,
+            evaluations: 0,
+            dig_evaluations: [0; MAX_TEMPLATE_DIGS],
+            stretch: [1.0; MAX_TEMPLATE_DIGS],
+            retime: RetimeWork::default(),
+            planned: 0,
+            seed: 0,
+        })
+    }
+
+    /// Number of digs of the last plan: 0 unless it succeeded.
+    pub fn len(&self) -> usize {
+        self.planned
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.planned == 0
+    }
+
+    /// Exact dig evaluations the last plan charged against
+    /// [`TemplateSettings::max_evaluations`]. A candidate whose replay
+    /// stopped at a dig that breaks a constraint is charged in full, so
+    /// the evaluations actually made (the sum of the plan's per-dig counts)
+    /// can be fewer.
+    pub fn evaluations(&self) -> usize {
+        self.evaluations
+    }
+
+    /// Index (into the templates given) of the template the last plan grew from.
+    pub fn seed(&self) -> usize {
+        self.seed
+    }
+
+    pub fn design(&self) -> &DesignProfile {
+        &self.design
+    }
+
+    /// The final surface of the last plan against its design profile.
+    pub fn metrics(&mut self) -> ProfileMetrics {
+        let design = self.design;
+        design.compare(self.final_terrain())
+    }
+
+    /// The final surface of the last plan.
+    pub fn final_terrain(&mut self) -> &Terrain {
+        self.load(Side::Best, self.best.count);
+        &self.terrain
+    }
+
+    /// Makes the working terrain the surface `after[j]` of one side.
+    pub(super) fn load(&mut self, side: Side, j: usize) {
+        let (j0, w) = self.window;
+        let p = match side {
+            Side::Best => &self.best,
+            Side::Candidate => &self.candidate,
+        };
+        self.terrain.set_span(j0, &p.after[j][..w]);
+    }
+
+    /// Plays the candidate's digs from dig `from` on, starting on the
+    /// surface it holds before that dig. With `feasible_only` it stops at
+    /// the first dig that breaks a constraint (as soon as that is certain)
+    /// and returns false: such a candidate cannot beat a feasible best.
+    pub(super) fn play(
+        &mut self,
+        planner: &Planner,
+        from: usize,
+        weight_objective: f64,
+        feasible_only: bool,
+    ) -> bool {
+        let cfg = planner.config();
+        self.load(Side::Candidate, from);
+        let (j0, w) = self.window;
+        let p = &mut self.candidate;
+        let n = p.count;
+        let reference = feasible_only.then_some(Reference::ANY_FEASIBLE);
+        for j in from..n {
+            self.evaluations += 1;
+            self.dig_evaluations[j] += 1;
+            let played = play_dig_to_beat(
+                cfg,
+                &self.guard,
+                &p.vars[j],
+                &self.terrain,
+                &mut self.carve,
+                reference,
+            );
+            let (lo, carved) = self.carve.window();
+            p.score[j] = match played {
+                // A dig that carves outside the window is not kept.
+                Some((_, _, a)) if lo >= j0 && lo + carved.len() <= j0 + w => {
+                    self.terrain.commit(&self.carve);
+                    DigScore {
+                        violation: a.violation,
+                        objective: a.report.objective,
+                    }
+                }
+                _ => DigScore {
+                    violation: UNEVALUABLE,
+                    objective: 0.0,
+                },
+            };
+            if feasible_only && p.score[j].violation > 0.0 {
+                // The digs not replayed count against the bound all the
+                // same, so the search is the one full replays make.
+                self.evaluations += n - j - 1;
+                return false;
+            }
+            p.after[j + 1][..w].copy_from_slice(&self.terrain.heights()[j0..j0 + w]);
+        }
+        let m = self.design.compare(&self.terrain);
+        let (violation, objective) = p.score[..n]
+            .iter()
+            .fold((0.0, 0.0), |a, s| (a.0 + s.violation, a.1 + s.objective));
+        p.violation = violation;
+        p.value = m.under_dug + m.over_dug + weight_objective * objective / n as f64;
+        true
+    }
+
+    /// The candidate, which differs from the best from dig `j` on, becomes the best.
+    pub(super) fn accept(&mut self, j: usize) {
+        let n = self.best.count;
+        let (b, c) = (&mut self.best, &mut self.candidate);
+        b.vars[j..n].copy_from_slice(&c.vars[j..n]);
+        b.score[j..n].copy_from_slice(&c.score[j..n]);
+        for k in j + 1..=n {
+            core::mem::swap(&mut b.after[k], &mut c.after[k]);
+        }
+        b.value = c.value;
+        b.violation = c.violation;
+    }
+}
