@@ -34,6 +34,7 @@ pub mod runner;
 pub mod sampler;
 pub mod sequence;
 pub mod stats;
+pub mod suite;
 pub mod tasks;
 pub mod testfns;
 

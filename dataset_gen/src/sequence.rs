@@ -35,16 +35,56 @@ use serde::{Deserialize, Serialize};
 /// end lift, start ζ, end ζ, b1–b3, T.
 const PER_DIG: usize = DIG_VARS;
 
+/// The optimiser of a whole-task search (README: the comparison at equal
+/// evaluations that chose the default).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SequenceOptimiser {
+    /// Constriction PSO, velocity limit half of each range.
+    #[default]
+    Pso,
+    /// Constriction PSO, velocity limit a tenth of each range.
+    PsoV10,
+    /// CMA-ES ([`crate::algorithms::Cmaes`]).
+    Cmaes,
+    /// Grey wolves from a good-point set ([`crate::algorithms::Gwo`]).
+    Gwo,
+}
+
+impl SequenceOptimiser {
+    /// The name [`AnyAlgorithm::by_name`] knows it by.
+    pub fn name(self) -> &'static str {
+        match self {
+            SequenceOptimiser::Pso => "pso",
+            SequenceOptimiser::PsoV10 => "pso-v10",
+            SequenceOptimiser::Cmaes => "cmaes",
+            SequenceOptimiser::Gwo => "gwo",
+        }
+    }
+
+    pub fn parse(name: &str) -> Result<Self, Error> {
+        [Self::Pso, Self::PsoV10, Self::Cmaes, Self::Gwo]
+            .into_iter()
+            .find(|o| o.name() == name)
+            .ok_or_else(|| {
+                Error::BadArgument(format!(
+                    "unknown sequence optimiser `{name}` (expected pso, pso-v10, cmaes or gwo)"
+                ))
+            })
+    }
+}
+
 /// Budget and size of a whole-task optimisation.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SequenceSettings {
+    pub optimiser: SequenceOptimiser,
     /// Number of digs; `None`: the planner's expected count
     /// ⌈V_design / (fill · V_max)⌉ (4, 3, 3 and 5 for tasks A–D, the source's).
     pub digs: Option<usize>,
     pub population: usize,
     pub iterations: usize,
-    /// Independent PSO runs (in parallel); the best is kept.
+    /// Independent runs (in parallel); the best is kept.
     pub restarts: usize,
     /// Evaluations of the compass search that then polishes the best
     /// sequence one variable at a time (0: none).
@@ -57,6 +97,7 @@ pub struct SequenceSettings {
 impl Default for SequenceSettings {
     fn default() -> Self {
         SequenceSettings {
+            optimiser: SequenceOptimiser::Pso,
             digs: None,
             population: 100,
             iterations: 750,
@@ -70,7 +111,12 @@ impl Default for SequenceSettings {
 impl SequenceSettings {
     /// Sequences evaluated per task (for progress bars).
     pub fn evaluations(&self) -> u64 {
-        (self.restarts * self.population * (self.iterations + 1) + self.polish) as u64
+        // CMA-ES starts from one point, the others from a population.
+        let first = match self.optimiser {
+            SequenceOptimiser::Cmaes => 1,
+            _ => self.population,
+        };
+        (self.restarts * (self.population * self.iterations + first) + self.polish) as u64
     }
 }
 
@@ -301,7 +347,7 @@ pub fn optimise_task(
     let design = DesignProfile::new(&cfg, task);
     let start = planner.initial_terrain(&design)?;
     let problem = |bar| SequenceProblem::new(planner, &design, &start, digs, w, bar);
-    let alg = AnyAlgorithm::by_name("pso", settings.population)?;
+    let alg = AnyAlgorithm::by_name(settings.optimiser.name(), settings.population)?;
     let runs = (0..settings.restarts as u64)
         .into_par_iter()
         .map(|r| {

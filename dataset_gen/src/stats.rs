@@ -21,15 +21,7 @@ impl Distribution {
             return Distribution::default();
         }
         v.sort_by(f64::total_cmp);
-        let q = |p: f64| {
-            let pos = p * (v.len() - 1) as f64;
-            let (i, frac) = (pos.floor() as usize, pos - pos.floor());
-            if i + 1 < v.len() {
-                v[i] * (1.0 - frac) + v[i + 1] * frac
-            } else {
-                v[i]
-            }
-        };
+        let q = |p| quantile(&v, p);
         Distribution {
             count: v.len(),
             mean: v.iter().sum::<f64>() / v.len() as f64,
@@ -39,6 +31,17 @@ impl Distribution {
             p95: q(0.95),
             max: v[v.len() - 1],
         }
+    }
+}
+
+/// The `p` quantile of sorted, non-empty values, interpolating linearly
+/// between order statistics (NumPy's default, so peers' figures compare).
+pub fn quantile(sorted: &[f64], p: f64) -> f64 {
+    let pos = p * (sorted.len() - 1) as f64;
+    let (i, frac) = (pos.floor() as usize, pos - pos.floor());
+    match sorted.get(i + 1) {
+        Some(next) => sorted[i] * (1.0 - frac) + next * frac,
+        None => sorted[i],
     }
 }
 
@@ -54,5 +57,18 @@ mod tests {
             (3, 1.0, 2.0, 3.0, 2.0)
         );
         assert_eq!(Distribution::of(&[]).count, 0);
+    }
+
+    #[test]
+    fn quantiles_match_numpy() {
+        // numpy.percentile([1, 1, 3, 4, 5], [25, 50, 75]) = [1, 3, 4]
+        let v = [1.0, 1.0, 3.0, 4.0, 5.0];
+        assert_eq!([0.25, 0.5, 0.75].map(|p| quantile(&v, p)), [1.0, 3.0, 4.0]);
+        // numpy.percentile([1, 2, 3, 4], [25, 50, 75]) = [1.75, 2.5, 3.25]
+        let v = [1.0, 2.0, 3.0, 4.0];
+        assert_eq!(
+            [0.25, 0.5, 0.75].map(|p| quantile(&v, p)),
+            [1.75, 2.5, 3.25]
+        );
     }
 }

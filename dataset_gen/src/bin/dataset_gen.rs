@@ -5,14 +5,13 @@
 use clap::{Parser, Subcommand};
 use dataset_gen::Error;
 use dataset_gen::algorithms::AnyAlgorithm;
-use dataset_gen::algorithms::nsga2::hypervolume_2d;
 use dataset_gen::batch::{self, GenConfig, RunOptions, Shard};
 use dataset_gen::front;
 use dataset_gen::library;
 use dataset_gen::rng::rng_from_seed;
-use dataset_gen::runner::{Budget, Runner};
-use dataset_gen::sequence::{self, SequenceSettings};
-use dataset_gen::testfns::{TestFn, TestProblem};
+use dataset_gen::sequence::{self, SequenceOptimiser, SequenceSettings};
+use dataset_gen::suite::test_problem;
+use dataset_gen::testfns::TestFn;
 use infer::DigType;
 use std::path::{Path, PathBuf};
 
@@ -30,19 +29,22 @@ struct Cli {
     command: Command,
 }
 
-/// The budget of a sequence-PSO search (defaults: `SequenceSettings::default()`).
+/// The optimiser and budget of a sequence search (defaults: `SequenceSettings::default()`).
 #[derive(clap::Args, Debug)]
 struct SequenceArgs {
+    /// pso (default), pso-v10, cmaes or gwo.
+    #[arg(long)]
+    optimiser: Option<String>,
     /// Number of digs (default: the planner's expected count).
     #[arg(long)]
     digs: Option<usize>,
-    /// PSO population (default 100).
+    /// Population, or CMA-ES's samples per generation (default 100).
     #[arg(long)]
     population: Option<usize>,
-    /// PSO iterations per run (default 750).
+    /// Iterations per run (default 750).
     #[arg(long)]
     iterations: Option<usize>,
-    /// Independent PSO runs, the best kept (default 8).
+    /// Independent runs, the best kept (default 8).
     #[arg(long)]
     restarts: Option<usize>,
     /// Evaluations of the compass search polishing the best (default 20,000).
@@ -54,16 +56,20 @@ struct SequenceArgs {
 }
 
 impl SequenceArgs {
-    fn settings(&self) -> SequenceSettings {
+    fn settings(&self) -> Result<SequenceSettings, Error> {
         let d = SequenceSettings::default();
-        SequenceSettings {
+        Ok(SequenceSettings {
+            optimiser: match &self.optimiser {
+                Some(name) => SequenceOptimiser::parse(name)?,
+                None => d.optimiser,
+            },
             digs: self.digs,
             population: self.population.unwrap_or(d.population),
             iterations: self.iterations.unwrap_or(d.iterations),
             restarts: self.restarts.unwrap_or(d.restarts),
             polish: self.polish.unwrap_or(d.polish),
             weight_objective: self.weight_objective.unwrap_or(d.weight_objective),
-        }
+        })
     }
 }
 
@@ -127,9 +133,16 @@ enum Command {
         #[arg(long, default_value_t = 1)]
         seed: u64,
         /// Every algorithm on every problem: the four single-objective ones in
-        /// 10 and 30 dimensions, and NSGA-II on ZDT1–3 (30 variables).
+        /// 10 and 30 dimensions, and NSGA-II on ZDT1–3 (30 variables), as the
+        /// median and quartiles over `--seeds` runs from `--seed` on.
         #[arg(long)]
         suite: bool,
+        /// Runs per algorithm and problem in `--suite`.
+        #[arg(long, default_value_t = 11)]
+        seeds: u64,
+        /// A peers' file (`scripts/suite_peers.py`): their medians beside `--suite`'s.
+        #[arg(long)]
+        peers: Option<PathBuf>,
         /// Draw the final front over the true one (ZDT1–3) to this SVG file.
         #[arg(long)]
         plot: Option<PathBuf>,
@@ -275,49 +288,6 @@ fn print(v: &impl serde::Serialize) -> Result<(), Error> {
     Ok(())
 }
 
-fn test_problem(
-    alg: &str,
-    f: TestFn,
-    dim: usize,
-    pop: usize,
-    iters: usize,
-    seed: u64,
-    plot: Option<&Path>,
-) -> Result<serde_json::Value, Error> {
-    if let Some(path) = plot.filter(|_| !f.is_multi_objective()) {
-        return Err(Error::BadArgument(format!(
-            "--plot {}: {} has no Pareto front to draw (zdt1–3 do)",
-            path.display(),
-            f.name()
-        )));
-    }
-    let a = AnyAlgorithm::by_name(alg, pop)?;
-    let mut p = TestProblem::new(f, dim);
-    let r = a.run(
-        &Runner::new(Budget::iterations(iters), seed),
-        &mut p,
-        &mut rng_from_seed(seed),
-    )?;
-    let mut v = serde_json::json!({
-        "algorithm": alg, "problem": f.name(), "dim": dim, "population": pop, "iterations": r.iterations,
-        "evaluations": r.evaluations, "seed": seed, "wall_time_s": r.wall_time_s,
-    });
-    if f.is_multi_objective() {
-        let pts: Vec<[f64; 2]> = r.front.iter().map(|i| [i.f[0], i.f[1]]).collect();
-        v["hypervolume"] = serde_json::json!(hypervolume_2d(&pts, [1.1, 1.1]));
-        v["reference_point"] = serde_json::json!([1.1, 1.1]);
-        v["front_size"] = serde_json::json!(pts.len());
-        if let Some(path) = plot {
-            let title = format!("{alg} {pop} × {iters} on {} ({dim} variables)", f.name());
-            front::zdt_front_svg(path, f, &pts, &title)?;
-            v["plot"] = serde_json::json!(path);
-        }
-    } else {
-        v["best_fitness"] = serde_json::json!(r.best.f[0]);
-    }
-    Ok(v)
-}
-
 fn main_inner() -> Result<(), Error> {
     let cli = Cli::parse();
     if let Some(t) = cli.threads {
@@ -391,6 +361,8 @@ fn main_inner() -> Result<(), Error> {
             iterations,
             seed,
             suite,
+            seeds,
+            peers,
             plot,
         } => {
             if suite {
@@ -399,24 +371,18 @@ fn main_inner() -> Result<(), Error> {
                         "--plot draws one problem's front; leave out --suite".into(),
                     ));
                 }
-                let mut out = Vec::new();
-                for f in TestFn::ALL {
-                    let algs: &[&str] = if f.is_multi_objective() {
-                        &["nsga2"]
-                    } else {
-                        &["pso", "gwo", "gwo-random", "nsga2"]
-                    };
-                    let dims: &[usize] = if f.is_multi_objective() {
-                        &[30]
-                    } else {
-                        &[10, 30]
-                    };
-                    for &a in algs {
-                        for &d in dims {
-                            out.push(test_problem(a, f, d, population, iterations, seed, None)?);
-                        }
+                let peers = match &peers {
+                    Some(path) => {
+                        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+                            path: path.clone(),
+                            source,
+                        })?;
+                        Some(serde_json::from_str(&text)?)
                     }
-                }
+                    None => None,
+                };
+                let out =
+                    dataset_gen::suite::suite(population, iterations, seed, seeds, peers.as_ref())?;
                 print(&out)
             } else {
                 let f = TestFn::parse(&function).ok_or_else(|| {
@@ -479,7 +445,7 @@ fn main_inner() -> Result<(), Error> {
         } => {
             let (task, title) = task.read().map_err(Error::BadArgument)?;
             let planner = default_planner()?;
-            let settings = sequence.settings();
+            let settings = sequence.settings()?;
             let bar =
                 dataset_gen::jobs::progress_bar(settings.evaluations(), "sequences", !no_progress);
             let plan = sequence::optimise_task(&planner, &task, &settings, seed, Some(&bar))?;
@@ -501,7 +467,7 @@ fn main_inner() -> Result<(), Error> {
             let settings = library::LibrarySettings {
                 tasks,
                 seed,
-                sequence: sequence.settings(),
+                sequence: sequence.settings()?,
                 ..Default::default()
             };
             let bar =
