@@ -40,7 +40,9 @@ pub enum ReachError {
     },
     #[error("tip (x = {x:.4} m, y = {y:.4} m) is reachable only with joints outside their ranges")]
     NoValidBranch { x: f64, y: f64 },
-    #[error("at tip (x = {x:.4} m, y = {y:.4} m) the drives cannot move the arm (a singular drive geometry)")]
+    #[error(
+        "at tip (x = {x:.4} m, y = {y:.4} m) the drives cannot move the arm (a singular drive geometry)"
+    )]
     DriveSingular { x: f64, y: f64 },
     #[error("this arm needs the tool attitude to solve its inverse kinematics")]
     AttitudeRequired,

@@ -129,7 +129,10 @@ fn drive_forces_balance_the_energy() {
     let path = Path::new(&vars).unwrap();
     let mut samples: Vec<ShovelSample> = Vec::new();
     let err = rope_shovel::evaluate_with(&p, &typical(), &vars, |s| samples.push(*s));
-    assert!(matches!(err, Err(ShovelError::NothingDug)), "no load: {err:?}");
+    assert!(
+        matches!(err, Err(ShovelError::NothingDug)),
+        "no load: {err:?}"
+    );
     let e0 = rod_energy(&p, samples[0].q, samples[0].qd);
     let (mut work, mut prev) = (0.0, 0.0);
     let mut worst = 0.0f64;
@@ -159,8 +162,8 @@ fn hoist_speed_is_the_rope_length_rate() {
         let pt = path.at(t).p;
         let f = kinematics::inverse(&p, [p.toe[0] + pt[0], p.toe[1] + pt[1]]).unwrap();
         let r = Rope::new(&p, &f).unwrap();
-        let free = ((r.tangent[0] - r.attach[0]).powi(2) + (r.tangent[1] - r.attach[1]).powi(2))
-            .sqrt();
+        let free =
+            ((r.tangent[0] - r.attach[0]).powi(2) + (r.tangent[1] - r.attach[1]).powi(2)).sqrt();
         // The rope wraps counter-clockwise from the tangent point to the back.
         let angle = (r.tangent[1] - p.sheave[1]).atan2(r.tangent[0] - p.sheave[0]);
         free - p.sheave_radius * angle
@@ -216,7 +219,10 @@ fn typical_optimum_is_feasible_and_half_its_time_is_not() {
         Constraint::CrowdPower,
     ] {
         let k = r.check(c);
-        assert!(k.ok() && k.upper.unwrap() - k.max > 0.1 * k.scale, "{c:?}: {k:?}");
+        assert!(
+            k.ok() && k.upper.unwrap() - k.max > 0.1 * k.scale,
+            "{c:?}: {k:?}"
+        );
     }
     // The same path in half the time: the drives, not only t_d, rule it out.
     let mut fast = DigVars::TYPICAL;
@@ -230,14 +236,21 @@ fn typical_optimum_is_feasible_and_half_its_time_is_not() {
         Constraint::HoistPower,
         Constraint::CrowdPower,
     ] {
-        assert!(!r.check(c).ok(), "{c:?} should be violated: {:?}", r.check(c));
+        assert!(
+            !r.check(c).ok(),
+            "{c:?} should be violated: {:?}",
+            r.check(c)
+        );
     }
 }
 
 #[test]
 fn weights_follow_the_index_tolerance_method() {
     let w = index_tolerance_weights([13.0, 15.0], [3.75, 8.33]);
-    assert!((w[0] - 0.7).abs() < 0.005 && (w[1] - 0.3).abs() < 0.005, "{w:?}");
+    assert!(
+        (w[0] - 0.7).abs() < 0.005 && (w[1] - 0.3).abs() < 0.005,
+        "{w:?}"
+    );
     assert_eq!(ShovelParams::default().weights, [0.7, 0.3]);
 }
 
@@ -302,7 +315,9 @@ fn shovel_effort_splits_into_motion_and_static_parts() {
     let slow = arm
         .inverse_dynamics(&q, &qd.map(|v| v / k), &qdd.map(|v| v / (k * k)), &load, f)
         .unwrap();
-    let still = arm.inverse_dynamics(&q, &[0.0; 2], &[0.0; 2], &load, f).unwrap();
+    let still = arm
+        .inverse_dynamics(&q, &[0.0; 2], &[0.0; 2], &load, f)
+        .unwrap();
     for i in 0..2 {
         assert!((slow.motion[i] - e.motion[i] / (k * k)).abs() < 1e-12);
         assert_eq!(e.static_part[i], still.static_part[i]);

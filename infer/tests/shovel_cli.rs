@@ -17,7 +17,11 @@ fn tmp(name: &str) -> std::path::PathBuf {
 #[test]
 fn evaluates_the_typical_optimum_as_text_and_json() {
     let out = run(&[]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("feasible        yes"), "{text}");
     assert!(text.contains("hopper_clearance"), "{text}");

@@ -49,22 +49,27 @@ fn read_surface(path: &Path) -> Result<PileSurface, String> {
     let value: serde_json::Value =
         serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
     let inner = value.get("surface").cloned().unwrap_or(value);
-    serde_json::from_value(inner).map_err(|e| format!("{}: not a pile surface: {e}", path.display()))
+    serde_json::from_value(inner)
+        .map_err(|e| format!("{}: not a pile surface: {e}", path.display()))
 }
 
 fn run(args: Args) -> Result<(), String> {
     let params: ShovelParams = common::json_or_default(args.params.as_deref())?;
-    let vars = match &args.vars {
-        None => DigVars::TYPICAL,
-        Some(v) => DigVars::from_array(<[f64; 5]>::try_from(v.as_slice()).map_err(|_| {
-            format!("--vars takes five comma-separated numbers, got {}", v.len())
-        })?),
-    };
+    let vars =
+        match &args.vars {
+            None => DigVars::TYPICAL,
+            Some(v) => DigVars::from_array(<[f64; 5]>::try_from(v.as_slice()).map_err(|_| {
+                format!("--vars takes five comma-separated numbers, got {}", v.len())
+            })?),
+        };
     let (surface, source) = match &args.surface {
         Some(path) => (read_surface(path)?, path.display().to_string()),
         None => (
             typical_pile(args.height, args.face_angle.to_radians()).map_err(|e| e.to_string())?,
-            format!("typical pile, H {} m, face {}°", args.height, args.face_angle),
+            format!(
+                "typical pile, H {} m, face {}°",
+                args.height, args.face_angle
+            ),
         ),
     };
     let r = rope_shovel::evaluate(&params, &surface, &vars).map_err(|e| e.to_string())?;
@@ -110,7 +115,10 @@ fn run(args: Args) -> Result<(), String> {
     println!("peak power      {} W", two(r.peak_power));
     println!("deepest cut     {:.1} mm", r.max_depth * 1e3);
     println!();
-    println!("{:<18} {:>12} {:<5} verdict", "constraint", "margin", "unit");
+    println!(
+        "{:<18} {:>12} {:<5} verdict",
+        "constraint", "margin", "unit"
+    );
     for c in &r.checks {
         let (m, unit) = match c.constraint.unit() {
             "rad" => (c.margin().to_degrees(), "°"),

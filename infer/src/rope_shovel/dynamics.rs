@@ -25,9 +25,9 @@
 //! momentum given to newly dug material (the ṁ terms) belongs to the
 //! resistance and is not added again, as in the excavator's model.
 
+use super::ShovelError;
 use super::kinematics::HandleFrame;
 use super::params::ShovelParams;
-use super::ShovelError;
 use crate::math::sqrt;
 
 /// Below this tip speed (m/s) the direction of motion is undefined and the
@@ -86,7 +86,10 @@ impl Rope {
     /// wrapping on the sheave adds nothing to first order), v_c = ḋ.
     #[inline]
     pub fn drive_speeds(&self, qd: &[f64; 2]) -> [f64; 2] {
-        [qd[1] * self.handle[0] + self.s * qd[0] * self.handle[1], qd[1]]
+        [
+            qd[1] * self.handle[0] + self.s * qd[0] * self.handle[1],
+            qd[1],
+        ]
     }
 
     /// [F_hoist, F_crowd] (N) supplying the generalised forces `tau`.

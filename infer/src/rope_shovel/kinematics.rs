@@ -127,7 +127,9 @@ pub fn tip(p: &ShovelParams, q: &[f64; 2]) -> [f64; 2] {
 /// ```
 pub fn inverse(p: &ShovelParams, b: [f64; 2]) -> Result<HandleFrame, ReachError> {
     if !(b[0].is_finite() && b[1].is_finite()) {
-        return Err(ReachError::NonFinite { what: "tip position" });
+        return Err(ReachError::NonFinite {
+            what: "tip position",
+        });
     }
     let rel = [b[0] - p.pivot[0], b[1] - p.pivot[1]];
     let rho2 = rel[0] * rel[0] + rel[1] * rel[1];

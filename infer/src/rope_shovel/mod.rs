@@ -57,10 +57,14 @@ pub enum ShovelError {
         "the hoist rope cannot lift the handle here (front end {s:.4} m from the pivot, rope along or behind the handle)"
     )]
     RopeGeometry { s: f64 },
-    #[error("the path leaves the perceived surface at x = {x:.4} m (surface from {x0:.4} to {x1:.4} m)")]
+    #[error(
+        "the path leaves the perceived surface at x = {x:.4} m (surface from {x0:.4} to {x1:.4} m)"
+    )]
     OffSurface { x: f64, x0: f64, x1: f64 },
     #[error("pile surface: {0}")]
     Surface(#[from] PileError),
-    #[error("the path digs nothing (it never goes below the perceived surface), so f1 and f2 are undefined")]
+    #[error(
+        "the path digs nothing (it never goes below the perceived surface), so f1 and f2 are undefined"
+    )]
     NothingDug,
 }

@@ -197,20 +197,63 @@ impl ShovelParams {
         let fin = |v: &[f64]| v.iter().all(|x| x.is_finite());
         let range = |r: [f64; 2]| fin(&r) && r[0] < r[1];
         let checks: [(&'static str, bool); 14] = [
-            ("pivot/sheave/toe/lane_y", fin(&self.pivot) && fin(&self.sheave) && fin(&self.toe) && self.lane_y.is_finite()),
-            ("l3/d0", self.l3.is_finite() && self.l3 >= 0.0 && pos(self.d0)),
-            ("sheave_radius", self.sheave_radius.is_finite() && self.sheave_radius >= 0.0),
-            ("handle_mass/handle_length", pos(self.handle_mass) && pos(self.handle_length)),
-            ("dipper_mass/dipper_length", pos(self.dipper_mass) && pos(self.dipper_length)),
-            ("dipper_width/dipper_volume/dipper_box", pos(self.dipper_width) && pos(self.dipper_volume) && self.dipper_box.iter().all(|&v| pos(v))),
+            (
+                "pivot/sheave/toe/lane_y",
+                fin(&self.pivot) && fin(&self.sheave) && fin(&self.toe) && self.lane_y.is_finite(),
+            ),
+            (
+                "l3/d0",
+                self.l3.is_finite() && self.l3 >= 0.0 && pos(self.d0),
+            ),
+            (
+                "sheave_radius",
+                self.sheave_radius.is_finite() && self.sheave_radius >= 0.0,
+            ),
+            (
+                "handle_mass/handle_length",
+                pos(self.handle_mass) && pos(self.handle_length),
+            ),
+            (
+                "dipper_mass/dipper_length",
+                pos(self.dipper_mass) && pos(self.dipper_length),
+            ),
+            (
+                "dipper_width/dipper_volume/dipper_box",
+                pos(self.dipper_width)
+                    && pos(self.dipper_volume)
+                    && self.dipper_box.iter().all(|&v| pos(v)),
+            ),
             ("max_extension", pos(self.max_extension)),
             ("handle_angle", range(self.handle_angle)),
-            ("density/k0/mu/gravity", fin(&[self.density, self.k0, self.mu, self.gravity]) && self.density >= 0.0 && self.k0 >= 0.0 && self.mu >= 0.0 && self.gravity >= 0.0),
-            ("max_speed/max_force/max_power", self.max_speed.iter().chain(&self.max_force).chain(&self.max_power).all(|&v| pos(v))),
+            (
+                "density/k0/mu/gravity",
+                fin(&[self.density, self.k0, self.mu, self.gravity])
+                    && self.density >= 0.0
+                    && self.k0 >= 0.0
+                    && self.mu >= 0.0
+                    && self.gravity >= 0.0,
+            ),
+            (
+                "max_speed/max_force/max_power",
+                self.max_speed
+                    .iter()
+                    .chain(&self.max_force)
+                    .chain(&self.max_power)
+                    .all(|&v| pos(v)),
+            ),
             ("fill/duration", range(self.fill) && range(self.duration)),
-            ("back_angle/hopper_height", range(self.back_angle) && self.hopper_height.is_finite()),
-            ("weights", self.weights.iter().all(|&w| w.is_finite() && w >= 0.0)),
-            ("time_samples", (5..=MAX_SHOVEL_SAMPLES).contains(&self.time_samples)),
+            (
+                "back_angle/hopper_height",
+                range(self.back_angle) && self.hopper_height.is_finite(),
+            ),
+            (
+                "weights",
+                self.weights.iter().all(|&w| w.is_finite() && w >= 0.0),
+            ),
+            (
+                "time_samples",
+                (5..=MAX_SHOVEL_SAMPLES).contains(&self.time_samples),
+            ),
         ];
         match checks.iter().find(|(_, ok)| !ok) {
             Some((field, _)) => Err(field),

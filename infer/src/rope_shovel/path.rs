@@ -39,7 +39,13 @@ impl DigVars {
     }
 
     pub fn to_array(&self) -> [f64; 5] {
-        [self.a6[0], self.a6[1], self.duration, self.goal[0], self.goal[1]]
+        [
+            self.a6[0],
+            self.a6[1],
+            self.duration,
+            self.goal[0],
+            self.goal[1],
+        ]
     }
 
     /// The source's typical-pile optimum (§6).

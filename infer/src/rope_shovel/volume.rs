@@ -110,7 +110,9 @@ impl Sections {
     /// must clear at the end of the dig.
     #[inline]
     pub fn top(heights: &[f64; 5]) -> f64 {
-        heights[..4].iter().fold(f64::NEG_INFINITY, |a, &b| a.max(b))
+        heights[..4]
+            .iter()
+            .fold(f64::NEG_INFINITY, |a, &b| a.max(b))
     }
 }
 
