@@ -66,7 +66,7 @@ fn joint_rates_match_the_path_by_differences() {
     let q_at = |t: f64| {
         let pt = path.at(t).p;
         let f = kinematics::inverse(&p, [p.toe[0] + pt[0], p.toe[1] + pt[1]]).unwrap();
-        [f.theta, f.d]
+        [f.theta(), f.d]
     };
     for &t in &[1.0, 4.0, 6.5, 10.0] {
         let pt = path.at(t);
@@ -244,6 +244,35 @@ fn typical_optimum_is_feasible_and_half_its_time_is_not() {
     }
 }
 
+/// The default time grid keeps every figure and margin within 10⁻³ of a
+/// 16 × finer one.
+#[test]
+fn default_time_grid_is_fine_enough() {
+    let mut p = ShovelParams::default();
+    let coarse = rope_shovel::evaluate(&p, &typical(), &DigVars::TYPICAL).unwrap();
+    p.time_samples = (p.time_samples - 1) * 16 + 1;
+    let fine = rope_shovel::evaluate(&p, &typical(), &DigVars::TYPICAL).unwrap();
+    let pairs = [
+        (coarse.volume, fine.volume),
+        (coarse.f1, fine.f1),
+        (coarse.f2, fine.f2),
+        (coarse.energy[0], fine.energy[0]),
+        (coarse.energy[1], fine.energy[1]),
+    ];
+    let peaks = [coarse.peak_speed, coarse.peak_force, coarse.peak_power];
+    let fine_peaks = [fine.peak_speed, fine.peak_force, fine.peak_power];
+    let peak_pairs = (0..3).flat_map(|k| (0..2).map(move |i| (peaks[k][i], fine_peaks[k][i])));
+    for (a, b) in pairs.into_iter().chain(peak_pairs) {
+        assert!((a - b).abs() <= 1e-3 * b.abs(), "{a} vs {b}");
+    }
+    for (c, f) in coarse.checks.iter().zip(&fine.checks) {
+        assert!(
+            (c.margin() - f.margin()).abs() <= 1e-3 * c.scale,
+            "{c:?} vs {f:?}"
+        );
+    }
+}
+
 #[test]
 fn weights_follow_the_index_tolerance_method() {
     let w = index_tolerance_weights([13.0, 15.0], [3.75, 8.33]);
@@ -299,6 +328,46 @@ fn bad_input_is_a_typed_error() {
         rope_shovel::evaluate(&p, &low, &DigVars::TYPICAL),
         Err(ShovelError::NothingDug)
     ));
+}
+
+/// Draws across wide variable ranges give a report of finite figures or a
+/// typed error, never a panic or a NaN.
+#[test]
+fn random_variables_give_finite_figures_or_errors() {
+    let p = ShovelParams::default();
+    let s = typical();
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut uniform = |lo: f64, hi: f64| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        lo + (hi - lo) * (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut ok = 0;
+    for _ in 0..2000 {
+        let vars = DigVars::from_array([
+            uniform(-4e-6, 4e-6),
+            uniform(-4e-6, 4e-6),
+            uniform(4.0, 20.0),
+            uniform(0.05, 0.55),
+            uniform(0.05, 0.45),
+        ]);
+        if let Ok(r) = rope_shovel::evaluate(&p, &s, &vars) {
+            ok += 1;
+            let figures = [
+                r.volume,
+                r.mass,
+                r.fill,
+                r.f1,
+                r.f2,
+                r.objective,
+                r.max_depth,
+            ];
+            assert!(figures.iter().all(|v| v.is_finite()), "{vars:?}: {r:?}");
+            assert!(r.checks.iter().all(|c| c.margin().is_finite()), "{vars:?}");
+        }
+    }
+    assert!(ok > 500, "only {ok} of 2000 draws evaluated");
 }
 
 /// The effort splits into a static part and a motion part that scales by

@@ -5,8 +5,8 @@
 //! tip's velocity and acceleration to joint rates, reads the perceived
 //! surface across the dipper, grows the dug volume (and with it the load),
 //! applies the resistance, solves §2 for the hoist and crowd forces and
-//! accumulates the drives' energy (trapezoid rule). 121 samples (≈ 0.1 s)
-//! is the default.
+//! accumulates the drives' energy (trapezoid rule). 61 samples (≈ 0.2 s)
+//! is the default: every figure within 10⁻³ of a 16 × finer grid (tested).
 //!
 //! Between samples: the peak of every sampled quantity is refined by the
 //! parabola through the peak sample and its two neighbours (exact for a
@@ -67,12 +67,23 @@ pub fn evaluate(
     surface: &PileSurface,
     vars: &DigVars,
 ) -> Result<ShovelReport, ShovelError> {
-    evaluate_with(p, surface, vars, |_| {})
+    walk::<false>(p, surface, vars, |_| {})
 }
 
 /// [`evaluate`], calling `on_sample` at every time sample (a no-op closure
 /// costs nothing).
 pub fn evaluate_with(
+    p: &ShovelParams,
+    surface: &PileSurface,
+    vars: &DigVars,
+    on_sample: impl FnMut(&ShovelSample),
+) -> Result<ShovelReport, ShovelError> {
+    walk::<true>(p, surface, vars, on_sample)
+}
+
+/// The evaluation; the samples (and the handle angle θ only they need)
+/// are formed when `SAMPLES` is set.
+fn walk<const SAMPLES: bool>(
     p: &ShovelParams,
     surface: &PileSurface,
     vars: &DigVars,
@@ -151,19 +162,21 @@ pub fn evaluate_with(
         if k == n - 1 {
             end_heights = heights;
         }
-        on_sample(&ShovelSample {
-            t,
-            tip: pt.p,
-            q: [frame.theta, frame.d],
-            qd,
-            depth,
-            resistance,
-            speed: v,
-            force: drive,
-            power: pw,
-            volume,
-            back_angle,
-        });
+        if SAMPLES {
+            on_sample(&ShovelSample {
+                t,
+                tip: pt.p,
+                q: [frame.theta(), frame.d],
+                qd,
+                depth,
+                resistance,
+                speed: v,
+                force: drive,
+                power: pw,
+                volume,
+                back_angle,
+            });
+        }
     }
 
     let top_y = highest_tip(&path, top_k as f64 * dt, dt, big_t, top_y) + p.toe[1];

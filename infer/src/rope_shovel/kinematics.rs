@@ -27,8 +27,6 @@ use crate::math::{atan2, sin_cos, sqrt};
 /// The handle's pose: joints and the unit vectors of its frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HandleFrame {
-    /// θ (rad).
-    pub theta: f64,
     /// d (m).
     pub d: f64,
     /// e_r = (sin θ, −cos θ): along the handle, outwards.
@@ -42,11 +40,16 @@ impl HandleFrame {
     pub fn new(q: &[f64; 2]) -> Self {
         let (s, c) = sin_cos(q[0]);
         HandleFrame {
-            theta: q[0],
             d: q[1],
             e_r: [s, -c],
             e_p: [c, s],
         }
+    }
+
+    /// θ (rad) in (−π, π] (one atan2: the evaluation needs only the frame).
+    #[inline]
+    pub fn theta(&self) -> f64 {
+        atan2(self.e_r[0], -self.e_r[1])
     }
 
     /// r = d + d0: the tip's distance along the handle from the pivot (m).
@@ -144,7 +147,6 @@ pub fn inverse(p: &ShovelParams, b: [f64; 2]) -> Result<HandleFrame, ReachError>
         (r * rel[1] - p.l3 * rel[0]) / rho2,
     ];
     Ok(HandleFrame {
-        theta: atan2(e_r[0], -e_r[1]),
         d: r - p.d0,
         e_r,
         e_p: [-e_r[1], e_r[0]],
@@ -156,7 +158,7 @@ pub fn inverse(p: &ShovelParams, b: [f64; 2]) -> Result<HandleFrame, ReachError>
 pub fn inverse_in_range(p: &ShovelParams, b: [f64; 2]) -> Result<[f64; 2], ReachError> {
     let f = inverse(p, b)?;
     let ranges = [p.handle_angle, [0.0, p.max_extension]];
-    for (joint, (value, r)) in [f.theta, f.d].into_iter().zip(ranges).enumerate() {
+    for (joint, (value, r)) in [f.theta(), f.d].into_iter().zip(ranges).enumerate() {
         if value < r[0] || value > r[1] {
             return Err(ReachError::OutOfRange {
                 x: b[0],
@@ -168,5 +170,5 @@ pub fn inverse_in_range(p: &ShovelParams, b: [f64; 2]) -> Result<[f64; 2], Reach
             });
         }
     }
-    Ok([f.theta, f.d])
+    Ok([f.theta(), f.d])
 }

@@ -129,7 +129,8 @@ pub struct ShovelParams {
     pub hopper_height: f64,
     /// Objective weights [w1, w2] of f1 (J/kg) and f2 (s/kg): 0.7, 0.3.
     pub weights: [f64; 2],
-    /// Time samples per dig, both ends included: 121 (≈ 0.1 s).
+    /// Time samples per dig, both ends included: 61 (≈ 0.2 s; every figure
+    /// and margin within 10⁻³ of a 16 × finer grid on the typical optimum).
     pub time_samples: usize,
 }
 
@@ -172,7 +173,7 @@ impl Default for ShovelParams {
             back_angle: [deg(30.0), deg(110.0)],
             hopper_height: 0.11,
             weights: [0.7, 0.3],
-            time_samples: 121,
+            time_samples: 61,
         }
     }
 }
