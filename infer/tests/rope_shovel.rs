@@ -122,9 +122,11 @@ fn rod_energy(p: &ShovelParams, q: [f64; 2], qd: [f64; 2]) -> f64 {
 /// sample, with the load held fixed (density 0) and the resistance on.
 #[test]
 fn drive_forces_balance_the_energy() {
-    let mut p = ShovelParams::default();
-    p.density = 0.0;
-    p.time_samples = 4001;
+    let p = ShovelParams {
+        density: 0.0,
+        time_samples: 4001,
+        ..ShovelParams::default()
+    };
     let vars = DigVars::TYPICAL;
     let path = Path::new(&vars).unwrap();
     let mut samples: Vec<ShovelSample> = Vec::new();
@@ -182,8 +184,10 @@ fn hoist_speed_is_the_rope_length_rate() {
 /// between them: area ½ c x_c with x_c = c / (g_y/g_x − m), times the width.
 #[test]
 fn dug_volume_of_straight_paths_under_planes() {
-    let mut p = ShovelParams::default();
-    p.time_samples = 2001;
+    let p = ShovelParams {
+        time_samples: 2001,
+        ..ShovelParams::default()
+    };
     for (c, m) in [(0.1, 0.0), (0.05, 0.5), (0.12, 0.3)] {
         let vars = DigVars {
             a6: [0.0, 0.0],
