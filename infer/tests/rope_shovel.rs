@@ -237,7 +237,6 @@ fn typical_optimum_is_feasible_and_half_its_time_is_not() {
     for c in [
         Constraint::HoistSpeedMax,
         Constraint::CrowdSpeedMax,
-        Constraint::HoistPower,
         Constraint::CrowdPower,
     ] {
         assert!(

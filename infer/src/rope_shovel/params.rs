@@ -106,12 +106,14 @@ pub struct ShovelParams {
     pub mu: f64,
     pub gravity: f64,
     /// Drive ratings, [hoist, crowd]: speed (m/s), force (N), power (W).
-    /// **Assumed**, about 1.5 × what the source's optima need: speeds
+    /// **Assumed**, about 1.3–1.5 × what the source's optima need: speeds
     /// [0.040, 0.056] over the four optima's peaks [0.027, 0.037] (speeds
-    /// depend on the path only); forces [250, 220] and powers [5.5, 8.5]
-    /// over the typical optimum's [166, 149] N and [3.5, 5.5] W on the
-    /// analytic typical pile. Half the time doubles the speeds and powers,
-    /// so such a dig is not feasible (tested).
+    /// depend on the path only); forces [400, 260] and powers [10, 8.5]
+    /// over the largest of the four optima on analytic piles of their
+    /// shapes (H 0.3–0.4 m, 40°; the convex one needs [306, 192] N and
+    /// [7.7, 2.2] W, the typical one [166, 149] N and [3.5, 5.5] W). Half
+    /// the typical optimum's time doubles its speeds and powers, so such a
+    /// dig is not feasible (tested).
     pub max_speed: [f64; 2],
     pub max_force: [f64; 2],
     pub max_power: [f64; 2],
@@ -166,8 +168,8 @@ impl Default for ShovelParams {
             mu: 0.4,
             gravity: 9.81,
             max_speed: [0.04, 0.056],
-            max_force: [250.0, 220.0],
-            max_power: [5.5, 8.5],
+            max_force: [400.0, 260.0],
+            max_power: [10.0, 8.5],
             fill: [0.9, 1.1],
             duration: [9.0, 15.0],
             back_angle: [deg(30.0), deg(110.0)],
