@@ -70,8 +70,8 @@ pub fn evaluate(
     walk::<false>(p, surface, vars, |_| {})
 }
 
-/// [`evaluate`], calling `on_sample` at every time sample (a no-op closure
-/// costs nothing).
+/// [`evaluate`], calling `on_sample` at every time sample (for plots, logs
+/// or datasets; the same figures, bit for bit).
 pub fn evaluate_with(
     p: &ShovelParams,
     surface: &PileSurface,
