@@ -211,6 +211,10 @@ fn typical_optimum_is_feasible_and_half_its_time_is_not() {
     let p = ShovelParams::default();
     let r = rope_shovel::evaluate(&p, &typical(), &DigVars::TYPICAL).unwrap();
     assert!(r.feasible, "{:#?}", r.checks);
+    let mut n = 0;
+    let same = rope_shovel::evaluate_with(&p, &typical(), &DigVars::TYPICAL, |_| n += 1);
+    assert_eq!(same, Ok(r));
+    assert_eq!(n, p.time_samples);
     assert!((0.95..=1.05).contains(&r.fill), "fill {}", r.fill);
     assert!((16.5..=18.0).contains(&r.f1), "f1 {} (source 17.19)", r.f1);
     // Every drive rating holds with at least 10 % to spare at its upper end.
