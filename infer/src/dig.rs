@@ -113,9 +113,7 @@ pub struct Check {
 impl Check {
     /// Distance to the nearest bound, negative when violated (SI units).
     pub fn margin(&self) -> f64 {
-        let lo = self.lower.map_or(f64::INFINITY, |l| self.min - l);
-        let hi = self.upper.map_or(f64::INFINITY, |u| u - self.max);
-        lo.min(hi)
+        interval_margin(self.min, self.max, self.lower, self.upper)
     }
 
     /// Violation as a fraction of `scale` (0 when satisfied).
@@ -145,6 +143,15 @@ impl core::fmt::Display for Check {
             None => f.write_str(name),
         }
     }
+}
+
+/// Distance of the range [min, max] to the nearest of the optional bounds,
+/// negative when it crosses one: what every machine's checks report.
+#[inline]
+pub fn interval_margin(min: f64, max: f64, lower: Option<f64>, upper: Option<f64>) -> f64 {
+    let lo = lower.map_or(f64::INFINITY, |l| min - l);
+    let hi = upper.map_or(f64::INFINITY, |u| u - max);
+    lo.min(hi)
 }
 
 /// Number of constraints in a [`DigReport`].

@@ -22,6 +22,11 @@ pub(crate) fn sqrt(x: f64) -> f64 {
 }
 
 #[inline]
+pub(crate) fn tan(x: f64) -> f64 {
+    libm::tan(x)
+}
+
+#[inline]
 pub(crate) fn acos(x: f64) -> f64 {
     libm::acos(x)
 }

@@ -110,3 +110,15 @@ pub extern "C" fn infer_roadheader_cuttable() -> i32 {
         Err(_) => -1,
     }
 }
+
+/// f1 (J/kg) of the source's typical rope shovel optimum on the analytic
+/// typical pile, or −1 on error; shows the shovel model builds without `std`.
+#[unsafe(no_mangle)]
+pub extern "C" fn infer_shovel_typical_f1() -> f64 {
+    use infer::rope_shovel::{self, DigVars, ShovelParams, volume::typical_pile};
+    let Ok(surface) = typical_pile(0.4, infer::deg(40.0)) else { return -1.0 };
+    match rope_shovel::evaluate(&ShovelParams::default(), &surface, &DigVars::TYPICAL) {
+        Ok(r) => r.f1,
+        Err(_) => -1.0,
+    }
+}
