@@ -111,12 +111,7 @@ impl Default for SequenceSettings {
 impl SequenceSettings {
     /// Sequences evaluated per task (for progress bars).
     pub fn evaluations(&self) -> u64 {
-        // CMA-ES starts from one point, the others from a population.
-        let first = match self.optimiser {
-            SequenceOptimiser::Cmaes => 1,
-            _ => self.population,
-        };
-        (self.restarts * (self.population * self.iterations + first) + self.polish) as u64
+        (self.restarts * self.population * (self.iterations + 1) + self.polish) as u64
     }
 }
 

@@ -7,7 +7,7 @@ use dataset_gen::algorithms::nsga2::{
     crowding_distance, fast_non_dominated_sort, hypervolume_2d, select_survivors,
 };
 use dataset_gen::algorithms::{
-    Algorithm, AnyAlgorithm, Gwo, GwoInit, Nsga2, Pso, PsoVariant, better,
+    Algorithm, AnyAlgorithm, Cmaes, Gwo, GwoInit, Nsga2, Pso, PsoVariant, better,
 };
 use dataset_gen::problem::{Individual, Problem};
 use dataset_gen::rng::rng_from_seed;
@@ -52,6 +52,10 @@ fn algs(pop: usize) -> Vec<AnyAlgorithm> {
         AnyAlgorithm::Nsga2(Nsga2 {
             population: pop,
             ..Nsga2::default()
+        }),
+        AnyAlgorithm::Cmaes(Cmaes {
+            population: pop,
+            ..Cmaes::default()
         }),
     ]
 }
@@ -196,6 +200,20 @@ fn bad_input_gives_typed_error() {
         AnyAlgorithm::Gwo(Gwo::default()).run(&runner, &mut empty, &mut rng_from_seed(1)),
         Err(Error::BadProblem(_))
     ));
+    for sigma0 in [0.0, 1.5, f64::NAN] {
+        let e = AnyAlgorithm::Cmaes(Cmaes {
+            population: 10,
+            sigma0,
+        })
+        .run(&runner, &mut p, &mut rng_from_seed(1));
+        assert!(matches!(e, Err(Error::BadSettings(_))), "sigma0 {sigma0}");
+    }
+    let e = AnyAlgorithm::Cmaes(Cmaes {
+        population: 3,
+        ..Cmaes::default()
+    })
+    .run(&runner, &mut p, &mut rng_from_seed(1));
+    assert!(matches!(e, Err(Error::BadSettings(_))));
     assert!(AnyAlgorithm::by_name("simplex", 10).is_err());
 }
 
@@ -338,4 +356,35 @@ fn gwo_wolves_never_move_to_a_worse_place() {
         }
     }
     assert!(moved > 100, "the pack hardly moved: {moved}");
+}
+
+/// The suite: a row per algorithm and problem, quartiles in order, each
+/// row's figures the same whatever the thread count (runs depend on their
+/// seed only), and a peer's median beside the row of its problem.
+#[test]
+fn suite_rows_are_ordered_and_carry_peers() {
+    let peers = serde_json::json!({"results": [
+        {"peer": "somebody's PSO", "problem": "sphere-10", "median": 1.5}
+    ]});
+    let rows = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| dataset_gen::suite::suite(6, 3, 1, 3, Some(&peers)).unwrap())
+    };
+    let one = rows(1);
+    assert_eq!(one, rows(2));
+    assert_eq!(one.len(), 6 * 8 + 3);
+    for r in &one {
+        let [q1, m, q3] = ["q1", "median", "q3"].map(|k| r[k].as_f64().unwrap());
+        assert!(q1 <= m && m <= q3, "{r}");
+        assert_eq!(r["seeds"], 3);
+    }
+    let pso = one
+        .iter()
+        .find(|r| r["algorithm"] == "pso" && r["problem"] == "sphere-10")
+        .unwrap();
+    assert_eq!(pso["peers"]["somebody's PSO"], 1.5);
+    assert!(dataset_gen::suite::suite(6, 3, 1, 0, None).is_err());
 }

@@ -12,8 +12,10 @@
 //!
 //! The search runs in the unit box (each variable scaled by its range);
 //! a sample that leaves it is clipped, evaluated there, and the clipped
-//! point is what the update learns from. The first mean is a uniform draw,
-//! not the box centre, so problems centred on their optimum get no gift.
+//! point is what the update learns from. The first generation is λ uniform
+//! draws (as every optimiser here starts) and the first mean their weighted
+//! recombination, not the box centre, so problems centred on their optimum
+//! get no gift.
 
 use super::{Algorithm, better, require_single_objective};
 use crate::error::Error;
@@ -123,6 +125,11 @@ impl CmaesState {
     }
 }
 
+/// Best first by Deb's rules; stable, so equal points keep draw order.
+fn rank(samples: &mut [(Individual, DVector<f64>)]) {
+    samples.sort_by(|a, b| compare_single(a.0.violation, a.0.f[0], b.0.violation, b.0.f[0]));
+}
+
 impl Algorithm for Cmaes {
     type State = CmaesState;
 
@@ -155,12 +162,12 @@ impl Algorithm for Cmaes {
     ) -> CmaesState {
         let (lo, hi) = ev.bounds();
         let n = lo.len();
-        let mean = DVector::from_fn(n, |_, _| uniform(rng));
+        let k = Constants::new(n, self.population);
         let mut s = CmaesState {
-            k: Constants::new(n, self.population),
+            k,
             lo,
             hi,
-            mean,
+            mean: DVector::zeros(n),
             sigma: self.sigma0,
             p_sigma: DVector::zeros(n),
             p_c: DVector::zeros(n),
@@ -174,7 +181,19 @@ impl Algorithm for Cmaes {
                 violation: f64::INFINITY,
             },
         };
-        s.best = ev.eval(s.to_problem(&s.mean));
+        // λ uniform draws, as the other optimisers start; the first mean is
+        // their weighted recombination, so no point of the box is favoured.
+        let mut pack: Vec<(Individual, DVector<f64>)> = (0..self.population)
+            .map(|_| {
+                let u = DVector::from_fn(n, |_, _| uniform(rng));
+                (ev.eval(s.to_problem(&u)), u)
+            })
+            .collect();
+        rank(&mut pack);
+        for (w, (_, u)) in s.k.weights.iter().zip(&pack) {
+            s.mean += u * *w;
+        }
+        s.best = pack[0].0.clone();
         s
     }
 
@@ -196,8 +215,7 @@ impl Algorithm for Cmaes {
             let y = (&u - &s.mean) / s.sigma;
             samples.push((ev.eval(s.to_problem(&u)), y));
         }
-        // Tell: rank by Deb's rules, stable so equal points keep draw order.
-        samples.sort_by(|a, b| compare_single(a.0.violation, a.0.f[0], b.0.violation, b.0.f[0]));
+        rank(&mut samples);
         if better(&samples[0].0, &s.best) {
             s.best = samples[0].0.clone();
         }
