@@ -90,8 +90,9 @@ fn scenario(
 
 /// §5 on the slipping plant. Met: deviation RMS ≤ 5 cm and max ≤ 10 cm
 /// after joining, final heading error ≤ 2°. Not met: joining within 5 m
-/// (the machine joins within 5.0–7.1 m; see infer/README.md), so the test
-/// holds the measured bound of 7.5 m.
+/// (the tuned controller joins within 4.2–6.2 m; infer/README.md says why
+/// no setting of its scaling factors joins within 5 m without leaving the
+/// 10 cm band afterwards), so the test holds the measured bound of 6.25 m.
 #[test]
 fn fuzzy_tracking_meets_the_scenario_goals() {
     for (start, speed) in [([2.0, -2.0], 2.0), ([0.0, 5.0], 1.0)] {
@@ -101,7 +102,7 @@ fn fuzzy_tracking_meets_the_scenario_goals() {
                 let s = scenario(&mut c, start, speed, slip, seed);
                 let what = format!("{start:?} at {speed} m/s, slip {slip}, seed {seed}: {s:?}");
                 assert!(s.arrived, "{what}");
-                assert!(s.join_distance.unwrap() <= 7.5, "{what}");
+                assert!(s.join_distance.unwrap() <= 6.25, "{what}");
                 assert!(s.rms_after_join.unwrap() <= 0.05, "{what}");
                 assert!(s.max_after_join.unwrap() <= 0.10, "{what}");
                 assert!(s.final_heading_error.to_degrees() <= 2.0, "{what}");

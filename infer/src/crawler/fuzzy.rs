@@ -130,7 +130,11 @@ fn sort(v: &mut [f64]) {
 pub struct FuzzyConfig {
     /// Scale K_e of e onto its universe (universe units per metre).
     pub k_e: f64,
-    /// Scale K_ec of ec onto its universe (per m/s).
+    /// Scale of ec onto its universe at 1 m/s \[s/m\]; at speed v the
+    /// factor is K_ec = k_ec / |v|. On the same geometry ec = de/dt grows
+    /// with v (de/dt = v·de/ds), so this maps ec's actual range onto the
+    /// universe at every speed and the rule table sees the same approach
+    /// angle as NB at 1 and 2 m/s.
     pub k_ec: f64,
     /// Track speed difference per output rpm K_u \[m/s per rpm\].
     pub k_u: f64,
@@ -146,13 +150,13 @@ pub struct FuzzyConfig {
 impl Default for FuzzyConfig {
     fn default() -> Self {
         FuzzyConfig {
-            k_e: 1.0,
-            k_ec: 8.0,
+            k_e: 0.8,
+            k_ec: 6.2,
             k_u: 2.0 / U_UNIVERSE,
-            alpha: 0.2,
+            alpha: 0.85,
             alpha_curvature: 20.0,
-            preview_base: 2.0,
-            preview_gain: 0.05,
+            preview_base: 3.0,
+            preview_gain: 0.1,
         }
     }
 }
@@ -186,6 +190,11 @@ impl FuzzyConfig {
     /// α at path curvature `kappa` \[1/m\].
     pub fn alpha_at(&self, kappa: f64) -> f64 {
         self.alpha + self.alpha_curvature * kappa.abs()
+    }
+
+    /// The scale K_ec of ec at speed `v` \[s/m\].
+    pub fn k_ec_at(&self, v: f64) -> f64 {
+        self.k_ec / v.abs()
     }
 
     /// Largest track speed difference the controller asks for \[m/s\].
