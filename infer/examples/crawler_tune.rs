@@ -1,11 +1,15 @@
-//! The grid search behind `FuzzyConfig::default()` (infer/README.md,
-//! "Tuning"): every combination of the scaling factors below runs the two
-//! §5 scenarios at slip 0, 10 and 20 % on plant seeds 0–3; a setting's
-//! score is its worst ratio of a figure to its goal (join 5 m, RMS 5 cm,
-//! max 10 cm after joining, final heading 2°), and the best few are printed.
+//! The random search behind `FuzzyConfig::straight_join()` (infer/README.md,
+//! "Tuning"): 600 seeded log-uniform settings of K_e, k_ec (per metre),
+//! α, L0, k_L and the output scale run the two §5 scenarios at slip 0,
+//! 10 and 20 % on plant seeds 0–4; among the settings that never leave
+//! the 10 cm band after joining and keep RMS and heading within 90 % of
+//! their goals, the shortest worst join wins. With six numbers
+//! (k_e k_ec alpha L0 k_L u_max) it prints one setting's runs; with a
+//! seventh (0 or 1) a trace of that scenario at slip 0.
 //!
 //! ```text
 //! cargo run --release -p infer --features cli --example crawler_tune
+//! cargo run --release -p infer --features cli --example crawler_tune -- 0.8 6.2 0.85 3.0 0.1 2.0
 //! ```
 
 use infer::crawler::Pose2;
@@ -98,8 +102,6 @@ fn trace(cfg: FuzzyConfig, which: usize) {
     }
 }
 
-/// `crawler_tune`: the random search below; `crawler_tune K_E K_EC ALPHA
-/// L0 K_L U_MAX`: that one setting's figures (U_MAX: m/s at 2,700 rpm).
 fn main() {
     let args: Vec<f64> = std::env::args()
         .skip(1)
@@ -115,7 +117,7 @@ fn main() {
         preview_base: v[3],
         preview_gain: v[4],
         k_u: v[5] / U_UNIVERSE,
-        ..FuzzyConfig::default()
+        ..FuzzyConfig::straight_join()
     };
     if args.len() == 7 {
         // A trace of scenario args[6] (0: (2, −2) at 2 m/s, 1: (0, 5) at 1 m/s), slip 0.
@@ -130,8 +132,6 @@ fn main() {
         );
         return;
     }
-    // Log-uniform random settings (seeded): k_e, k_ec, α, L0, k_L, and the
-    // output scale as the track speed difference at 2,700 rpm.
     let mut rng = infer::crawler::plant::Rng::new(2026);
     let mut log_uniform = |lo: f64, hi: f64| lo * (hi / lo).powf(rng.uniform());
     let grid: Vec<FuzzyConfig> = (0..600)
@@ -142,7 +142,7 @@ fn main() {
             preview_base: log_uniform(2.4, 4.0),
             preview_gain: log_uniform(0.01, 0.15),
             k_u: log_uniform(2.0, 2.3) / U_UNIVERSE,
-            ..FuzzyConfig::default()
+            ..FuzzyConfig::straight_join()
         })
         .collect();
     // Rank by the join among settings that never leave the 10 cm band
