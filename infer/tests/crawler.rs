@@ -89,22 +89,29 @@ fn scenario(
 }
 
 /// §5 on the slipping plant. Met: deviation RMS ≤ 5 cm and max ≤ 10 cm
-/// after joining, final heading error ≤ 2°. Not met: joining within 5 m
-/// (the machine joins within 5.0–7.1 m; see infer/README.md), so the test
-/// holds the measured bound of 7.5 m.
+/// after joining, final heading error ≤ 2°. Not met: joining within 5 m.
+/// The default scaling joins within 5.0–7.1 m, the straight-join scaling
+/// within 4.2–6.2 m; infer/README.md says why no setting of the scaling
+/// factors joins within 5 m without leaving the 10 cm band afterwards, so
+/// the test holds the measured bounds (7.5 and 6.25 m).
 #[test]
 fn fuzzy_tracking_meets_the_scenario_goals() {
-    for (start, speed) in [([2.0, -2.0], 2.0), ([0.0, 5.0], 1.0)] {
-        for slip in [0.0, 0.1, 0.2] {
-            for seed in 0..2 {
-                let mut c = Fuzzy::new(FuzzyConfig::default()).unwrap();
-                let s = scenario(&mut c, start, speed, slip, seed);
-                let what = format!("{start:?} at {speed} m/s, slip {slip}, seed {seed}: {s:?}");
-                assert!(s.arrived, "{what}");
-                assert!(s.join_distance.unwrap() <= 7.5, "{what}");
-                assert!(s.rms_after_join.unwrap() <= 0.05, "{what}");
-                assert!(s.max_after_join.unwrap() <= 0.10, "{what}");
-                assert!(s.final_heading_error.to_degrees() <= 2.0, "{what}");
+    for (config, join) in [
+        (FuzzyConfig::default(), 7.5),
+        (FuzzyConfig::straight_join(), 6.25),
+    ] {
+        for (start, speed) in [([2.0, -2.0], 2.0), ([0.0, 5.0], 1.0)] {
+            for slip in [0.0, 0.1, 0.2] {
+                for seed in 0..2 {
+                    let mut c = Fuzzy::new(config).unwrap();
+                    let s = scenario(&mut c, start, speed, slip, seed);
+                    let what = format!("{start:?} at {speed} m/s, slip {slip}, seed {seed}: {s:?}");
+                    assert!(s.arrived, "{what}");
+                    assert!(s.join_distance.unwrap() <= join, "{what}");
+                    assert!(s.rms_after_join.unwrap() <= 0.05, "{what}");
+                    assert!(s.max_after_join.unwrap() <= 0.10, "{what}");
+                    assert!(s.final_heading_error.to_degrees() <= 2.0, "{what}");
+                }
             }
         }
     }
@@ -119,7 +126,7 @@ fn the_source_pid_overshoots_where_fuzzy_does_not() {
         let s = scenario(&mut pid, start, speed, 0.1, 0);
         assert!(!s.arrived || s.max_after_join.unwrap() > 0.2, "{s:?}");
     }
-    let mut pp = PurePursuit::new(2.0, 0.05, 1.2).unwrap();
+    let mut pp = PurePursuit::standard(1.2).unwrap();
     let s = scenario(&mut pp, [2.0, -2.0], 2.0, 0.0, 0);
     assert!(s.arrived && s.rms_after_join.unwrap() < 0.05, "{s:?}");
 }

@@ -17,6 +17,57 @@ fn tmp(name: &str) -> std::path::PathBuf {
 const ROCKS: &str = r#"[{"circle": {"centre": [8.0, 0.3], "radius": 1.5}},
   {"polygon": [[14.0, -3.0], [16.0, -3.0], [16.0, -0.5], [14.0, -1.0]]}]"#;
 
+/// The MCAP holds Foxglove's own protobuf schemas on the pose, path and
+/// obstacle topics, messages that decode as them, and the JSON tracking
+/// figures.
+fn check_mcap(bytes: &[u8], obstacles: usize) {
+    use foxglove::Decode;
+    use foxglove::messages::{PoseInFrame, PosesInFrame, SceneUpdate};
+    let mut count = std::collections::BTreeMap::<String, usize>::new();
+    for m in mcap::MessageStream::new(bytes).unwrap() {
+        let m = m.unwrap();
+        let topic = m.channel.topic.as_str();
+        let schema = m.channel.schema.as_ref().unwrap();
+        let (name, encoding) = match topic {
+            "/crawler/pose" => {
+                let p = PoseInFrame::decode(&m.data[..]).unwrap();
+                assert_eq!(p.frame_id, "site");
+                let q = p.pose.unwrap().orientation.unwrap();
+                assert!((q.z * q.z + q.w * q.w - 1.0).abs() < 1e-9);
+                ("foxglove.PoseInFrame", "protobuf")
+            }
+            "/crawler/path" => {
+                assert!(PosesInFrame::decode(&m.data[..]).unwrap().poses.len() > 100);
+                ("foxglove.PosesInFrame", "protobuf")
+            }
+            "/crawler/obstacles" => {
+                let u = SceneUpdate::decode(&m.data[..]).unwrap();
+                assert_eq!(u.entities[0].lines.len(), obstacles);
+                ("foxglove.SceneUpdate", "protobuf")
+            }
+            "/crawler/tracking" => {
+                let v: serde_json::Value = serde_json::from_slice(&m.data).unwrap();
+                assert!(v["deviation_m"].as_f64().unwrap().is_finite());
+                ("crawler.TrackRecord", "json")
+            }
+            other => panic!("unexpected topic {other}"),
+        };
+        assert_eq!(schema.name, name, "{topic}");
+        let schema_encoding = if encoding == "json" {
+            "jsonschema"
+        } else {
+            encoding
+        };
+        assert_eq!(schema.encoding, schema_encoding, "{topic}");
+        assert_eq!(m.channel.message_encoding, encoding, "{topic}");
+        *count.entry(topic.to_string()).or_default() += 1;
+    }
+    assert_eq!(count["/crawler/path"], 1);
+    assert_eq!(count["/crawler/obstacles"], 1);
+    assert!(count["/crawler/pose"] > 100);
+    assert_eq!(count["/crawler/pose"], count["/crawler/tracking"]);
+}
+
 #[test]
 fn plans_tracks_and_writes_every_file() {
     let rocks = tmp("rocks.json");
@@ -53,13 +104,7 @@ fn plans_tracks_and_writes_every_file() {
         let svg = std::fs::read_to_string(tmp(&format!("run{tail}"))).unwrap();
         assert!(svg.contains("<svg") && svg.contains("polyline"), "{tail}");
     }
-    let mcap = std::fs::read(stem.with_extension("mcap")).unwrap();
-    let channels: Vec<String> = mcap::MessageStream::new(&mcap)
-        .unwrap()
-        .map(|m| m.unwrap().channel.topic.clone())
-        .collect();
-    assert!(channels.iter().any(|t| t == "/crawler/path"));
-    assert!(channels.iter().filter(|t| *t == "/crawler/pose").count() > 100);
+    check_mcap(&std::fs::read(stem.with_extension("mcap")).unwrap(), 2);
 
     // A V-shaped move: reverse then forward.
     let out = run(&[

@@ -77,12 +77,9 @@ fn scenario(
         let cfg = FuzzyConfig::default();
         let mut ctrl: Box<dyn Controller> = match name {
             "fuzzy" => Box::new(Fuzzy::new(cfg)?),
+            "fuzzy-join" => Box::new(Fuzzy::new(FuzzyConfig::straight_join())?),
             "pid" => Box::new(Pid::source(cfg)?),
-            _ => Box::new(PurePursuit::new(
-                cfg.preview_base,
-                cfg.preview_gain,
-                PlantParams::default().gauge,
-            )?),
+            _ => Box::new(PurePursuit::standard(PlantParams::default().gauge)?),
         };
         let pose = Pose2::new(start[0], start[1], std::f64::consts::FRAC_PI_4);
         let mut plant = Plant::new(
@@ -131,7 +128,7 @@ fn run(args: Args) -> Result<(), String> {
     );
     let _ = writeln!(
         md,
-        "## §5 tracking scenarios\n\nPath (0, 0) → (30, 30) m, initial heading π/4; worst over {} plant seeds; joined = first within {:.0} cm of the path. Goals: join ≤ 5 m, RMS ≤ 5 cm, max ≤ 10 cm, final heading error ≤ 2°. A run that turns round or never joins shows —.\n",
+        "## §5 tracking scenarios\n\nPath (0, 0) → (30, 30) m, initial heading π/4; worst over {} plant seeds; joined = first within {:.0} cm of the path. Goals: join ≤ 5 m, RMS ≤ 5 cm, max ≤ 10 cm, final heading error ≤ 2°. A run that turns round or never joins shows —. Controllers: fuzzy (default scaling), fuzzy-join (`FuzzyConfig::straight_join()`), the source's PID (default scaling), pure pursuit (look-ahead 2 m + 0.05 s·|v|).\n",
         args.runs,
         args.join_tolerance * 100.0
     );
@@ -139,7 +136,7 @@ fn run(args: Args) -> Result<(), String> {
     let mut rows = vec![];
     for (start, speed) in [([2.0, -2.0], 2.0), ([0.0, 5.0], 1.0)] {
         for slip in [0.0, 0.1, 0.2] {
-            for name in ["fuzzy", "pid", "pursuit"] {
+            for name in ["fuzzy", "fuzzy-join", "pid", "pursuit"] {
                 let w = scenario(args.join_tolerance, name, start, speed, slip, args.runs)
                     .map_err(|e| e.to_string())?;
                 let _ = writeln!(

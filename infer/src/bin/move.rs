@@ -168,14 +168,9 @@ fn run(args: Args) -> Result<(), String> {
     let mut ctrl: Box<dyn Controller> = match args.controller {
         Tracker::Fuzzy => Box::new(Fuzzy::new(fuzzy_cfg).map_err(|e| e.to_string())?),
         Tracker::Pid => Box::new(Pid::source(fuzzy_cfg).map_err(|e| e.to_string())?),
-        Tracker::Pursuit => Box::new(
-            PurePursuit::new(
-                fuzzy_cfg.preview_base,
-                fuzzy_cfg.preview_gain,
-                plant_params.gauge,
-            )
-            .map_err(|e| e.to_string())?,
-        ),
+        Tracker::Pursuit => {
+            Box::new(PurePursuit::standard(plant_params.gauge).map_err(|e| e.to_string())?)
+        }
     };
 
     let mut work = Box::new(MoveWork::<16384>::default());

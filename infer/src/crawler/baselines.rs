@@ -85,6 +85,14 @@ impl PurePursuit {
         }
         Ok(PurePursuit { base, gain, gauge })
     }
+
+    /// The baseline of the report and `move`: look-ahead 2.0 m + 0.05 s·|v|,
+    /// its own (the fuzzy preview of 3 m + 0.1 s·|v| is tuned for the
+    /// fuzzy rule table's join, and pure pursuit with it cuts in slower
+    /// and drifts further under slip).
+    pub fn standard(gauge: f64) -> Result<Self, CrawlerError> {
+        PurePursuit::new(2.0, 0.05, gauge)
+    }
 }
 
 impl Controller for PurePursuit {

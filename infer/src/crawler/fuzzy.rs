@@ -130,8 +130,14 @@ fn sort(v: &mut [f64]) {
 pub struct FuzzyConfig {
     /// Scale K_e of e onto its universe (universe units per metre).
     pub k_e: f64,
-    /// Scale K_ec of ec onto its universe (per m/s).
+    /// Scale K_ec of ec onto its universe (per m/s); with `ec_per_metre`,
+    /// K_ec = k_ec / |v| (k_ec then in s/m at 1 m/s).
     pub k_ec: f64,
+    /// Scale ec by 1/|v|: on the same geometry ec = de/dt grows with v
+    /// (de/dt = v·de/ds), so this maps ec's actual range onto the universe
+    /// at every speed and the rule table sees the same approach angle at 1
+    /// and 2 m/s.
+    pub ec_per_metre: bool,
     /// Track speed difference per output rpm K_u \[m/s per rpm\].
     pub k_u: f64,
     /// α on a straight path.
@@ -148,6 +154,7 @@ impl Default for FuzzyConfig {
         FuzzyConfig {
             k_e: 1.0,
             k_ec: 8.0,
+            ec_per_metre: false,
             k_u: 2.0 / U_UNIVERSE,
             alpha: 0.2,
             alpha_curvature: 20.0,
@@ -158,6 +165,22 @@ impl Default for FuzzyConfig {
 }
 
 impl FuzzyConfig {
+    /// Scaling tuned for joining a straight path from a few metres off it
+    /// (the §5 scenarios, `examples/crawler_tune.rs`): a longer preview,
+    /// larger α and ec per metre. It joins about 1 m sooner than the
+    /// default but tracks curves 2–4 times worse (infer/README.md).
+    pub fn straight_join() -> Self {
+        FuzzyConfig {
+            k_e: 0.8,
+            k_ec: 6.2,
+            ec_per_metre: true,
+            alpha: 0.85,
+            preview_base: 3.0,
+            preview_gain: 0.1,
+            ..FuzzyConfig::default()
+        }
+    }
+
     pub fn validate(&self) -> Result<(), CrawlerError> {
         for (what, v) in [
             ("k_e", self.k_e),
@@ -186,6 +209,15 @@ impl FuzzyConfig {
     /// α at path curvature `kappa` \[1/m\].
     pub fn alpha_at(&self, kappa: f64) -> f64 {
         self.alpha + self.alpha_curvature * kappa.abs()
+    }
+
+    /// The scale K_ec of ec at speed `v` \[s/m\].
+    pub fn k_ec_at(&self, v: f64) -> f64 {
+        if self.ec_per_metre {
+            self.k_ec / v.abs()
+        } else {
+            self.k_ec
+        }
     }
 
     /// Largest track speed difference the controller asks for \[m/s\].

@@ -160,7 +160,7 @@ impl Controller for Fuzzy {
         let e = o.d + c.alpha_at(o.curvature) * o.d0;
         let ec = self.previous.map_or(0.0, |p| (e - p) / o.dt);
         self.previous = Some(e);
-        c.k_u * infer(c.k_e * e, c.k_ec * ec)
+        c.k_u * infer(c.k_e * e, c.k_ec_at(o.speed) * ec)
     }
 
     fn reset(&mut self) {

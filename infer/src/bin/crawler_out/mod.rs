@@ -1,12 +1,12 @@
 //! What `move` writes besides its JSON: SVG pictures (plotters) and the
-//! poses as MCAP that Foxglove opens (JSON-schema channels named after
-//! Foxglove's own schemas, so its 3D panel shows them).
+//! run as MCAP in Foxglove's schemas ([`foxglove_mcap`]).
+
+mod foxglove_mcap;
 
 use super::TrackedLeg;
 use infer::crawler::{Obstacle, Pose2};
 use plotters::prelude::*;
 use serde_json::json;
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// The output files of one stem.
@@ -97,7 +97,8 @@ pub fn write_all(
     .map_err(|e| format!("{}: {e}", files.deviation.display()))?;
     series(&files.heading, "heading error (°)", legs, head)
         .map_err(|e| format!("{}: {e}", files.heading.display()))?;
-    mcap_file(&files.mcap, legs).map_err(|e| format!("{}: {e}", files.mcap.display()))
+    foxglove_mcap::write(&files.mcap, obstacles, legs)
+        .map_err(|e| format!("{}: {e}", files.mcap.display()))
 }
 
 type Fallible = Result<(), Box<dyn std::error::Error>>;
@@ -216,102 +217,5 @@ fn series(
         .draw()?;
     chart.draw_series(LineSeries::new(pts, RED.stroke_width(2)))?;
     root.present()?;
-    Ok(())
-}
-
-/// Poses as foxglove.PoseInFrame (one per record, topic /crawler/pose),
-/// the planned path as foxglove.PosesInFrame (/crawler/path, at t = 0),
-/// and the tracking figures as crawler.TrackRecord (/crawler/tracking).
-fn mcap_file(path: &Path, legs: &[TrackedLeg]) -> Fallible {
-    let file = std::io::BufWriter::new(std::fs::File::create(path)?);
-    let mut w = mcap::WriteOptions::new()
-        .compression(None)
-        .profile("")
-        .create(file)?;
-    let pose_schema = json!({"type": "object", "properties": {
-        "timestamp": {"type": "object", "properties": {"sec": {"type": "integer"}, "nsec": {"type": "integer"}}},
-        "frame_id": {"type": "string"},
-        "pose": {"type": "object", "properties": {
-            "position": {"type": "object", "properties": {"x": {"type": "number"}, "y": {"type": "number"}, "z": {"type": "number"}}},
-            "orientation": {"type": "object", "properties": {"x": {"type": "number"}, "y": {"type": "number"}, "z": {"type": "number"}, "w": {"type": "number"}}}}}}});
-    let poses_schema = json!({"type": "object", "properties": {
-        "timestamp": pose_schema["properties"]["timestamp"], "frame_id": {"type": "string"},
-        "poses": {"type": "array", "items": pose_schema["properties"]["pose"]}}});
-    let record_schema = json!({"type": "object", "properties": {
-        "t": {"type": "number"}, "deviation_m": {"type": "number"}, "heading_error_deg": {"type": "number"},
-        "difference_mps": {"type": "number"}, "s_m": {"type": "number"}, "leg": {"type": "integer"}}});
-    let s_pose = w.add_schema(
-        "foxglove.PoseInFrame",
-        "jsonschema",
-        &serde_json::to_vec(&pose_schema)?,
-    )?;
-    let s_poses = w.add_schema(
-        "foxglove.PosesInFrame",
-        "jsonschema",
-        &serde_json::to_vec(&poses_schema)?,
-    )?;
-    let s_rec = w.add_schema(
-        "crawler.TrackRecord",
-        "jsonschema",
-        &serde_json::to_vec(&record_schema)?,
-    )?;
-    let none = BTreeMap::new();
-    let c_pose = w.add_channel(s_pose, "/crawler/pose", "json", &none)?;
-    let c_path = w.add_channel(s_poses, "/crawler/path", "json", &none)?;
-    let c_rec = w.add_channel(s_rec, "/crawler/tracking", "json", &none)?;
-    let stamp = |t: f64| json!({"sec": t.floor() as u64, "nsec": ((t - t.floor()) * 1e9) as u64});
-    let quat = |h: f64| json!({"x": 0.0, "y": 0.0, "z": (h / 2.0).sin(), "w": (h / 2.0).cos()});
-    let mut seq = 0u32;
-    let mut put =
-        |w: &mut mcap::Writer<_>, channel: u16, t: f64, msg: serde_json::Value| -> Fallible {
-            let ns = (t * 1e9) as u64;
-            let header = mcap::records::MessageHeader {
-                channel_id: channel,
-                sequence: seq,
-                log_time: ns,
-                publish_time: ns,
-            };
-            seq += 1;
-            w.write_to_known_channel(&header, &serde_json::to_vec(&msg)?)?;
-            Ok(())
-        };
-    let mut poses = vec![];
-    for l in legs {
-        let pts = &l.points;
-        for (i, p) in pts.iter().enumerate() {
-            let q = pts[(i + 1).min(pts.len() - 1)];
-            let r = pts[i.saturating_sub(1)];
-            let h = (q[1] - r[1]).atan2(q[0] - r[0]);
-            poses.push(
-                json!({"position": {"x": p[0], "y": p[1], "z": 0.0}, "orientation": quat(h)}),
-            );
-        }
-    }
-    put(
-        &mut w,
-        c_path,
-        0.0,
-        json!({"timestamp": stamp(0.0), "frame_id": "site", "poses": poses}),
-    )?;
-    for (k, l) in legs.iter().enumerate() {
-        for r in &l.records {
-            let pose =
-                json!({"position": {"x": r.x, "y": r.y, "z": 0.0}, "orientation": quat(r.heading)});
-            put(
-                &mut w,
-                c_pose,
-                r.t,
-                json!({"timestamp": stamp(r.t), "frame_id": "site", "pose": pose}),
-            )?;
-            put(
-                &mut w,
-                c_rec,
-                r.t,
-                json!({"t": r.t, "deviation_m": r.deviation, "heading_error_deg": r.heading_error.to_degrees(),
-                "difference_mps": r.difference, "s_m": r.s, "leg": k}),
-            )?;
-        }
-    }
-    w.finish()?;
     Ok(())
 }
