@@ -21,6 +21,7 @@
 
 use super::instance::Instance;
 use super::objectives::{Objectives, Tour};
+use crate::algorithms::nsga2::Ranking;
 use crate::rng::{OptRng, index};
 
 /// Old positions `[a, e)`, walked backwards when `rev`.
@@ -313,4 +314,52 @@ impl LocalSearch {
         self.cursors[class] = cur;
         (Some(child), used + 1)
     }
+}
+
+/// The local search's turn this generation: target class
+/// `generation % 3` (0 the shortest member of the feasible first front,
+/// weight 1 on F1; 1 the least turning, weight 0; 2 a random other,
+/// weighted by its place), objectives scaled by the front's ranges.
+/// Returns the improved path, if any, and the evaluations spent.
+#[allow(clippy::too_many_arguments)]
+pub fn on_front(
+    inst: &Instance,
+    objectives: &Objectives,
+    pop: &[Tour],
+    ranking: &Ranking,
+    generation: usize,
+    budget: usize,
+    local: &mut LocalSearch,
+    rng: &mut OptRng,
+) -> (Option<Tour>, usize) {
+    let mut front: Vec<&Tour> = pop
+        .iter()
+        .zip(&ranking.rank)
+        .filter(|(t, r)| **r == 0 && t.violation <= 0.0)
+        .map(|(t, _)| t)
+        .collect();
+    if front.is_empty() {
+        return (None, 0);
+    }
+    front.sort_by(|a, b| a.f[0].total_cmp(&b.f[0]).then(a.f[1].total_cmp(&b.f[1])));
+    let last = front.len() - 1;
+    let class = generation % 3;
+    let k = match class {
+        0 => 0,
+        1 => last,
+        _ if last >= 2 => 1 + index(rng, last - 1),
+        _ => return (None, 0),
+    };
+    let weight = if last == 0 {
+        0.5
+    } else {
+        1.0 - k as f64 / last as f64
+    };
+    let scale = [0, 1].map(|m| {
+        let range = front[last].f[m] - front[0].f[m];
+        range.abs().max(1e-3 * front[k].f[m].abs()).max(1e-9)
+    });
+    local.step(
+        inst, objectives, class, front[k], weight, scale, budget, rng,
+    )
 }

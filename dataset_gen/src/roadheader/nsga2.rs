@@ -34,14 +34,14 @@
 //! permutation NSGA-II with a penalty.
 
 use super::instance::Instance;
-use super::local_search::LocalSearch;
+use super::local_search::{self, LocalSearch};
 use super::objectives::{Objectives, Tour};
 use super::operators::{
     dfs_tour, initial_straightness, mended_serpentine, random_permutation, repair_segment, segment,
 };
 use super::search::PathSearch;
 use super::{Adjacency, Error};
-use crate::algorithms::nsga2::{Ranking, crowded_tournament, rank_population, select_survivors};
+use crate::algorithms::nsga2::{crowded_tournament, rank_population, select_survivors};
 use crate::rng::{OptRng, index, uniform};
 use serde::{Deserialize, Serialize};
 
@@ -287,7 +287,7 @@ impl RoadheaderNsga2 {
             let mut spent = 0;
             if imp.local_search {
                 let budget = (self.local_search_share * self.pop_size() as f64) as usize;
-                let (child, used) = local_search_child(
+                let (child, used) = local_search::on_front(
                     inst,
                     &objectives,
                     &pop,
@@ -353,52 +353,4 @@ impl RoadheaderNsga2 {
             evaluations: self.evaluations(),
         })
     }
-}
-
-/// The local search's turn this generation: target class
-/// `generation % 3` (0 the shortest member of the feasible first front,
-/// weight 1 on F1; 1 the least turning, weight 0; 2 a random other,
-/// weighted by its place), objectives scaled by the front's ranges.
-/// Returns the improved path, if any, and the evaluations spent.
-#[allow(clippy::too_many_arguments)]
-fn local_search_child(
-    inst: &Instance,
-    objectives: &Objectives,
-    pop: &[Tour],
-    ranking: &Ranking,
-    generation: usize,
-    budget: usize,
-    local: &mut LocalSearch,
-    rng: &mut OptRng,
-) -> (Option<Tour>, usize) {
-    let mut front: Vec<&Tour> = pop
-        .iter()
-        .zip(&ranking.rank)
-        .filter(|(t, r)| **r == 0 && t.violation <= 0.0)
-        .map(|(t, _)| t)
-        .collect();
-    if front.is_empty() {
-        return (None, 0);
-    }
-    front.sort_by(|a, b| a.f[0].total_cmp(&b.f[0]).then(a.f[1].total_cmp(&b.f[1])));
-    let last = front.len() - 1;
-    let class = generation % 3;
-    let k = match class {
-        0 => 0,
-        1 => last,
-        _ if last >= 2 => 1 + index(rng, last - 1),
-        _ => return (None, 0),
-    };
-    let weight = if last == 0 {
-        0.5
-    } else {
-        1.0 - k as f64 / last as f64
-    };
-    let scale = [0, 1].map(|m| {
-        let range = front[last].f[m] - front[0].f[m];
-        range.abs().max(1e-3 * front[k].f[m].abs()).max(1e-9)
-    });
-    local.step(
-        inst, objectives, class, front[k], weight, scale, budget, rng,
-    )
 }
