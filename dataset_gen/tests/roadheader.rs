@@ -1,9 +1,12 @@
 //! The roadheader's path planner: every individual is a valid cutting
-//! path, small fronts are exact, grid paths are as short as possible, and
-//! bad input is named.
+//! path, small fronts are exact, grid paths are as short as possible, the
+//! local search keeps paths valid and improves them, and bad input is named.
 
-use dataset_gen::rng::rng_from_seed;
+use dataset_gen::rng::{rng_from_seed, uniform};
 use dataset_gen::roadheader::exact::exact_front;
+use dataset_gen::roadheader::local_search::LocalSearch;
+use dataset_gen::roadheader::operators::dfs_tour;
+use dataset_gen::roadheader::search::PathSearch;
 use dataset_gen::roadheader::serpentine::serpentine;
 use dataset_gen::roadheader::*;
 use infer::deg;
@@ -40,7 +43,7 @@ fn jittered(nx: usize, ny: usize, nz: usize, jitter: f64, seed: u64) -> Instance
     let mut points = Instance::grid(nx, ny, nz, 1.0).unwrap().points;
     for p in &mut points {
         for c in &mut p.position {
-            *c += jitter * (2.0 * dataset_gen::rng::uniform(&mut rng) - 1.0);
+            *c += jitter * (2.0 * uniform(&mut rng) - 1.0);
         }
     }
     Instance::new(points, true).unwrap()
@@ -87,42 +90,6 @@ fn small_fronts_are_exact() {
                 "{a:?} vs {b:?}"
             );
         }
-    }
-}
-
-#[test]
-fn grid_front_has_a_shortest_path_and_beats_the_serpentine_turning() {
-    let inst = Instance::grid(6, 5, 1, 1.0).unwrap();
-    let objectives = Objectives::default();
-    let (serp, violation) = objectives.evaluate(&inst, &serpentine(&inst));
-    assert_eq!(violation, 0.0);
-    assert!(
-        (serp[0] - 29.0).abs() < 1e-9,
-        "serpentine is a shortest path"
-    );
-    assert!((inst.length_lower_bound() - 29.0).abs() < 1e-9);
-    let run = small(64, 200).run(&inst, &mut rng_from_seed(5)).unwrap();
-    let shortest = run
-        .front
-        .iter()
-        .map(|t| t.f[0])
-        .fold(f64::INFINITY, f64::min);
-    let least_turning = run
-        .front
-        .iter()
-        .map(|t| t.f[1])
-        .fold(f64::INFINITY, f64::min);
-    assert!(
-        (shortest - 29.0).abs() < 1e-9,
-        "shortest on the front: {shortest}"
-    );
-    assert!(
-        least_turning <= serp[1] + 1e-9,
-        "{least_turning} > serpentine {}",
-        serp[1]
-    );
-    for t in &run.front {
-        assert_valid(&inst, &t.order);
     }
 }
 
@@ -227,6 +194,60 @@ fn bad_input_names_the_cause() {
     assert!(matches!(e, Error::TooManyForExact { points: 20, .. }));
 }
 
+/// The least length and least turning on a front.
+fn extremes(front: &[Tour]) -> [f64; 2] {
+    [0, 1].map(|k| front.iter().map(|t| t.f[k]).fold(f64::INFINITY, f64::min))
+}
+
+/// On regular grids, where a Hamiltonian path along the grid exists, the
+/// front holds a path of the least possible length ((n − 1) × spacing)
+/// and one turning no more than the serpentine (which is such a path
+/// too). The 6 × 5 grid gets there without the serpentine seed; on the
+/// 8 × 8 × 2 grid (the report's, at 64 × 300 instead of 128 × 500) the
+/// least turning comes from the seed (without it the local search
+/// reaches 25.44 m and 3012°, medians of 10 seeds in the report).
+#[test]
+fn grid_fronts_hold_a_least_length_path_and_the_serpentine_turning() {
+    let no_seed = Improvements {
+        serpentine_seed: false,
+        ..Improvements::ALL
+    };
+    for (inst, spacing, improvements, generations, seed) in [
+        (Instance::grid(6, 5, 1, 1.0), 1.0, no_seed, 200, 5),
+        (Instance::grid(8, 8, 2, 0.2), 0.2, Improvements::ALL, 300, 1),
+    ] {
+        let inst = inst.unwrap();
+        let least = (inst.len() - 1) as f64 * spacing;
+        assert!((inst.length_lower_bound() - least).abs() < 1e-9);
+        let (serp, violation) = Objectives::default().evaluate(&inst, &serpentine(&inst));
+        assert_eq!(violation, 0.0);
+        assert!(
+            (serp[0] - least).abs() < 1e-9,
+            "serpentine is a shortest path"
+        );
+        let nsga = RoadheaderNsga2 {
+            improvements,
+            ..small(64, generations)
+        };
+        let run = nsga.run(&inst, &mut rng_from_seed(seed)).unwrap();
+        let [shortest, turning] = extremes(&run.front);
+        let n = inst.len();
+        assert!(
+            (shortest - least).abs() < 1e-9,
+            "{n} points: shortest {shortest}"
+        );
+        assert!(
+            turning <= serp[1] + 1e-9,
+            "{n} points: least turning {}° > serpentine {}°",
+            turning.to_degrees(),
+            serp[1].to_degrees()
+        );
+        for t in &run.front {
+            assert_valid(&inst, &t.order);
+        }
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
 
@@ -263,6 +284,47 @@ proptest! {
         match run {
             Ok(_) => prop_assert_eq!(checked, 8 * 7),
             Err(e) => prop_assert!(matches!(e, Error::NoCoveringPath { .. }), "{e}"),
+        }
+    }
+
+    /// Over random sections, seeds and weights: every path the local
+    /// search returns is a valid cutting path, no worse under its weight
+    /// than the one it started from, and the evaluations stay in budget.
+    #[test]
+    fn local_search_keeps_paths_valid_and_improves_them(
+        width in 3.0..6.0f64,
+        height in 2.5..4.0f64,
+        right in any::<bool>(),
+        seed in any::<u64>(),
+        budget in 2usize..64,
+    ) {
+        let section = Section::rectangle(width, height, 20.0, 1.0).unwrap();
+        let machine = Roadheader::facing(&section);
+        let side = if right { Side::Right } else { Side::Left };
+        let inc = Increments { theta1: deg(10.0), theta2: deg(10.0), d: 0.25 };
+        let Ok(inst) = Instance::from_half(&machine, &section.half(side), &inc, true) else {
+            return Ok(());
+        };
+        let rng = &mut rng_from_seed(seed);
+        let mut search = PathSearch::new(inst.len());
+        let Ok(order) = dfs_tour(&inst, &mut search, 2.0, rng) else {
+            return Ok(());
+        };
+        let obj = Objectives::default();
+        let mut tour = obj.tour(&inst, order);
+        let mut local = LocalSearch::new(inst.len(), 1);
+        let weight = uniform(rng);
+        let scale = [1.0, 1.0];
+        let score = |f: [f64; 2]| weight * f[0] + (1.0 - weight) * f[1];
+        for _ in 0..20 {
+            let (child, used) = local.step(&inst, &obj, 0, &tour, weight, scale, budget, rng);
+            prop_assert!(used <= budget);
+            if let Some(child) = child {
+                assert_valid(&inst, &child.order);
+                prop_assert_eq!(child.violation, 0.0);
+                prop_assert!(score(child.f) <= score(tour.f) + 1e-9);
+                tour = child;
+            }
         }
     }
 }

@@ -15,8 +15,15 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
-/// The compared methods.
-pub const METHODS: [&str; 4] = ["improved_nsga2", "plain_nsga2", "pso", "aco"];
+/// The compared methods: the improved NSGA-II with the local search, with
+/// the source's three improvements only, plain, and the source's baselines.
+pub const METHODS: [&str; 5] = [
+    "improved_nsga2",
+    "source_nsga2",
+    "plain_nsga2",
+    "pso",
+    "aco",
+];
 
 /// One run of a method with the source's budget (128 × 500 evaluations + 128).
 pub fn run_method(
@@ -32,6 +39,11 @@ pub fn run_method(
     };
     match method {
         "improved_nsga2" => nsga.run(inst, rng),
+        "source_nsga2" => RoadheaderNsga2 {
+            improvements: Improvements::SOURCE,
+            ..nsga
+        }
+        .run(inst, rng),
         "plain_nsga2" => RoadheaderNsga2 {
             improvements: Improvements::NONE,
             ..nsga
@@ -175,6 +187,7 @@ pub struct AblationRow {
     pub median_run_time_s: f64,
     pub median_time_to_converge_s: Option<f64>,
     pub median_shortest_m: Option<f64>,
+    pub median_least_turning_deg: Option<f64>,
 }
 
 /// The ablation: every improvement on, each off in turn, all off; runs
@@ -210,12 +223,27 @@ pub fn ablation(
                 ..all
             },
         ),
+        (
+            "without the local search",
+            Improvements {
+                local_search: false,
+                ..all
+            },
+        ),
+        (
+            "without the serpentine seed",
+            Improvements {
+                serpentine_seed: false,
+                ..all
+            },
+        ),
+        ("the source's three only", Improvements::SOURCE),
         ("plain NSGA-II (none)", Improvements::NONE),
     ];
     let mut rows = Vec::new();
     for (name, improvements) in variants {
-        let (mut conv, mut times, mut to_conv, mut shortest) =
-            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let (mut conv, mut times, mut to_conv, mut shortest, mut turning) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
         for s in 0..seeds {
             let nsga = RoadheaderNsga2 {
                 generations,
@@ -237,6 +265,9 @@ pub fn ablation(
             if let Some(f) = best(&feasible(&r.front), 0) {
                 shortest.push(f);
             }
+            if let Some(f) = best(&feasible(&r.front), 1) {
+                turning.push(f.to_degrees());
+            }
             conv.push(c);
             tick();
         }
@@ -250,6 +281,7 @@ pub fn ablation(
             run_time_s: times,
             median_time_to_converge_s: (!to_conv.is_empty()).then(|| median(&to_conv)),
             median_shortest_m: (!shortest.is_empty()).then(|| median(&shortest)),
+            median_least_turning_deg: (!turning.is_empty()).then(|| median(&turning)),
         });
     }
     Ok(rows)

@@ -11,9 +11,10 @@
 //! here F1 is the length of the moves only ([`objectives`]).
 //!
 //! The improved NSGA-II ([`nsga2`]) shares `algorithms::nsga2`'s sorting,
-//! crowding and elitist merge and adds the source's three improvements,
-//! each of which can be switched off for the ablation; all three off is
-//! the plain permutation NSGA-II. Baselines on the same points and budget:
+//! crowding and elitist merge and adds the source's three improvements
+//! and two more (an adjacency-preserving [`local_search`] on the front, a
+//! serpentine seed), each of which can be switched off for the ablation;
+//! all off is the plain permutation NSGA-II. Baselines on the same points and budget:
 //! a swap-sequence PSO ([`pso`]), an ant colony ([`aco`]) and the
 //! serpentine an operator would cut ([`serpentine`]). [`exact`] computes
 //! the true front of small instances by dynamic programming over subsets.
@@ -23,8 +24,10 @@ pub mod adjacency;
 pub mod compare;
 pub mod exact;
 pub mod instance;
+pub mod local_search;
 pub mod nsga2;
 pub mod objectives;
+pub mod operators;
 pub mod output;
 pub mod pso;
 pub mod quality;

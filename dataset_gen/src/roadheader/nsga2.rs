@@ -6,7 +6,8 @@
 //! offspring from crowded tournaments: crossover (probability 0.7) takes
 //! a random segment of one parent and reorders its points as the other
 //! parent visits them; mutation (probability 0.6 per child) shuffles a
-//! random segment (scramble mutation). The three improvements, each with a switch:
+//! random segment (scramble mutation). The source's three improvements and
+//! two more, each with a switch:
 //! 1. `adjacency_matrix`: the adjacency is built once (off: re-derived
 //!    from the joint values at every query);
 //! 2. `dfs_init`: the initial tours come from the pruned depth-first
@@ -16,26 +17,44 @@
 //! 3. `repair`: after crossover and mutation the changed segment is
 //!    re-threaded along adjacency edges as close to the proposed order as
 //!    the search finds, or restored when it finds none within its budget
-//!    (off: the child is kept as it is).
+//!    (off: the child is kept as it is);
+//! 4. `local_search` (not the source's): each generation an
+//!    adjacency-preserving 2-opt / Or-opt search ([`super::local_search`])
+//!    continues on one member of the first front — the shortest, the
+//!    least turning and a random other in turn, weighted accordingly — and
+//!    its improved path joins the offspring; every move it evaluates
+//!    counts against the generation's N evaluations, so fewer offspring
+//!    are bred and the budget stays N per generation;
+//! 5. `serpentine_seed` (not the source's): one initial path is the
+//!    serpentine sweep an operator would cut, its rule-breaking jumps
+//!    mended by the repair (skipped when they cannot be).
 //!
 //! Moves that break the adjacency rule count as constraint violations
 //! (Deb's rules), so with every improvement off this is the plain
 //! permutation NSGA-II with a penalty.
 
 use super::instance::Instance;
+use super::local_search::{self, LocalSearch};
 use super::objectives::{Objectives, Tour};
-use super::search::{Guide, PathSearch, Request};
+use super::operators::{
+    dfs_tour, initial_straightness, mended_serpentine, random_permutation, repair_segment, segment,
+};
+use super::search::PathSearch;
 use super::{Adjacency, Error};
 use crate::algorithms::nsga2::{crowded_tournament, rank_population, select_survivors};
 use crate::rng::{OptRng, index, uniform};
 use serde::{Deserialize, Serialize};
 
-/// Which of the source's three improvements are on.
+/// Which of the source's three improvements, and the local search, are on.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Improvements {
     pub adjacency_matrix: bool,
     pub dfs_init: bool,
     pub repair: bool,
+    pub local_search: bool,
+    /// One initial path is the serpentine sweep, mended where its jumps
+    /// between rows break the adjacency rule (not the source's).
+    pub serpentine_seed: bool,
 }
 
 impl Improvements {
@@ -43,12 +62,22 @@ impl Improvements {
         adjacency_matrix: true,
         dfs_init: true,
         repair: true,
+        local_search: true,
+        serpentine_seed: true,
+    };
+    /// The source's three improvements without the local search.
+    pub const SOURCE: Self = Improvements {
+        local_search: false,
+        serpentine_seed: false,
+        ..Self::ALL
     };
     /// The plain permutation NSGA-II.
     pub const NONE: Self = Improvements {
         adjacency_matrix: false,
         dfs_init: false,
         repair: false,
+        local_search: false,
+        serpentine_seed: false,
     };
 }
 
@@ -62,6 +91,8 @@ pub struct RoadheaderNsga2 {
     pub mutation_prob: f64,
     /// Longest segment an operator changes.
     pub max_segment: usize,
+    /// Share of a generation's N evaluations the local search may spend.
+    pub local_search_share: f64,
     pub improvements: Improvements,
 }
 
@@ -73,6 +104,7 @@ impl Default for RoadheaderNsga2 {
             crossover_prob: 0.7,
             mutation_prob: 0.6,
             max_segment: 16,
+            local_search_share: 0.5,
             improvements: Improvements::ALL,
         }
     }
@@ -166,89 +198,6 @@ fn survivors(mut merged: Vec<Tour>, n: usize) -> Vec<Tour> {
     keep.iter().filter_map(|&i| slots[i].take()).collect()
 }
 
-/// A random permutation (Fisher–Yates).
-pub fn random_permutation(n: usize, rng: &mut OptRng) -> Vec<u32> {
-    let mut p: Vec<u32> = (0..n as u32).collect();
-    for i in (1..n).rev() {
-        p.swap(i, index(rng, i + 1));
-    }
-    p
-}
-
-/// Tries for one initial tour before giving up.
-pub const TOUR_TRIES: usize = 20;
-
-/// A cutting path from the randomised, pruned depth-first search;
-/// `straight` ≥ 0 weighs going straight on against Warnsdorff's rule
-/// (0: random Warnsdorff tours; large: serpentine-like ones).
-pub fn dfs_tour(
-    inst: &Instance,
-    search: &mut PathSearch,
-    straight: f64,
-    rng: &mut OptRng,
-) -> Result<Vec<u32>, Error> {
-    let scope: Vec<u32> = (0..inst.len() as u32).collect();
-    let req = Request {
-        scope: &scope,
-        after: None,
-        before: None,
-        guide: Guide::Random {
-            jitter: 3.0,
-            straight,
-        },
-        connectivity: true,
-        budget: 20 * inst.len() + 100,
-    };
-    for _ in 0..TOUR_TRIES {
-        if search.find(inst, &req, rng) {
-            return Ok(search.path.clone());
-        }
-    }
-    Err(Error::NoCoveringPath {
-        points: inst.len(),
-        tries: TOUR_TRIES,
-    })
-}
-
-/// How strongly initial tour k of n prefers going straight on: spread
-/// over [0, 8] so the population starts with both winding and
-/// serpentine-like paths.
-pub fn initial_straightness(k: usize, n: usize) -> f64 {
-    8.0 * k as f64 / (n.max(2) - 1) as f64
-}
-
-/// A random segment [i, j] of 2..=max_len points.
-fn segment(n: usize, max_len: usize, rng: &mut OptRng) -> (usize, usize) {
-    let hi = max_len.min(n).max(2);
-    let len = 2 + index(rng, hi - 1);
-    let i = index(rng, n - len + 1);
-    (i, i + len - 1)
-}
-
-/// Re-threads `order[i..=j]` along adjacency edges as close to its
-/// current order as the search finds; restores `original` when it fails.
-pub fn repair_segment(
-    inst: &Instance,
-    search: &mut PathSearch,
-    order: &mut [u32],
-    (i, j): (usize, usize),
-    original: &[u32],
-    rng: &mut OptRng,
-) -> bool {
-    let proposed = order[i..=j].to_vec();
-    let req = Request {
-        scope: &proposed,
-        after: i.checked_sub(1).map(|k| order[k]),
-        before: order.get(j + 1).copied(),
-        guide: Guide::Order(&proposed),
-        connectivity: false,
-        budget: 8 * proposed.len(),
-    };
-    let ok = search.find(inst, &req, rng);
-    order[i..=j].copy_from_slice(if ok { &search.path } else { original });
-    ok
-}
-
 impl RoadheaderNsga2 {
     pub fn validate(&self) -> Result<(), Error> {
         if self.population < 4 || self.max_segment < 2 {
@@ -257,7 +206,11 @@ impl RoadheaderNsga2 {
                 self.population, self.max_segment
             )));
         }
-        for p in [self.crossover_prob, self.mutation_prob] {
+        for p in [
+            self.crossover_prob,
+            self.mutation_prob,
+            self.local_search_share,
+        ] {
             if !(0.0..=1.0).contains(&p) {
                 return Err(Error::BadSettings(format!(
                     "probability {p} is outside [0, 1]"
@@ -318,13 +271,37 @@ impl RoadheaderNsga2 {
             };
             pop.push(objectives.tour(inst, order));
         }
+        if imp.serpentine_seed
+            && let Some(order) = mended_serpentine(inst, &mut search, rng)
+        {
+            // In place of the most serpentine-like depth-first tour.
+            pop[self.pop_size() - 1] = objectives.tour(inst, order);
+        }
         let mut ranking = rank_population(&pop);
         let mut history = vec![stats(&pop)];
         observe(0, &pop);
         let mut member = vec![false; n];
+        let mut local = LocalSearch::new(n, 3);
         for generation in 1..=self.generations {
             let mut offspring = Vec::with_capacity(pop.len());
-            while offspring.len() < pop.len() {
+            let mut spent = 0;
+            if imp.local_search {
+                let budget = (self.local_search_share * self.pop_size() as f64) as usize;
+                let (child, used) = local_search::on_front(
+                    inst,
+                    &objectives,
+                    &pop,
+                    &ranking,
+                    generation,
+                    budget,
+                    &mut local,
+                    rng,
+                );
+                // The child's evaluation is among `used`; it fills a place.
+                spent = used - usize::from(child.is_some());
+                offspring.extend(child);
+            }
+            while offspring.len() + spent < pop.len() {
                 let a = &pop[crowded_tournament(&ranking, rng)].order;
                 let b = &pop[crowded_tournament(&ranking, rng)].order;
                 let (mut c1, mut c2) = (a.clone(), b.clone());
@@ -360,7 +337,9 @@ impl RoadheaderNsga2 {
                     }
                 }
                 offspring.push(objectives.tour(inst, c1));
-                offspring.push(objectives.tour(inst, c2));
+                if offspring.len() + spent < pop.len() {
+                    offspring.push(objectives.tour(inst, c2));
+                }
             }
             pop.extend(offspring);
             pop = survivors(pop, self.pop_size());

@@ -15,8 +15,9 @@
 
 use super::Error;
 use super::instance::Instance;
-use super::nsga2::{RunRecord, dfs_tour, first_front, initial_straightness};
+use super::nsga2::{RunRecord, first_front};
 use super::objectives::{Objectives, Tour};
+use super::operators::{dfs_tour, initial_straightness};
 use super::search::PathSearch;
 use crate::problem::compare_single;
 use crate::rng::{OptRng, uniform};
