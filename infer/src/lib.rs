@@ -33,12 +33,14 @@ pub mod dig;
 pub mod dynamics;
 pub mod error;
 pub mod kinematics;
+pub mod limits;
 pub mod math;
 pub mod network;
 pub mod pile;
 #[cfg(feature = "std")]
 pub mod plan;
 pub mod planner;
+pub mod poly;
 pub mod predictor;
 pub mod query;
 pub mod repair;
