@@ -404,7 +404,7 @@ fn templates() -> &'static [infer::Template] {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 5, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
 
     /// Random tasks across the range: every plan the network planner and
     /// the template planner return holds every limit in continuous time
