@@ -141,24 +141,11 @@ impl JointExtrema {
             let linear = Poly::from_array([a, b]);
             let quadratic = Poly::from_array([2.0 * a, 3.0 * b - 4.0 * a, -5.0 * b]);
             out.angle[i] = span(&angle, 1.0, big_t, &[linear.roots_in(0.0, 1.0)]);
-            out.speed[i] = span(
-                &speed,
-                1.0 / big_t,
-                big_t,
-                &[
-                    quadratic.roots_in(0.0, 1.0),
-                    quadratic.derivative().roots_in(0.0, 1.0),
-                ],
-            );
-            out.accel[i] = span(
-                &accel,
-                1.0 / (big_t * big_t),
-                big_t,
-                &[
-                    jerk.roots_in(0.0, 1.0),
-                    jerk.derivative().roots_in(0.0, 1.0),
-                ],
-            );
+            let scale = [1.0 / big_t, 1.0 / (big_t * big_t)];
+            let candidates = quadratic.roots_and_critical(0.0, 1.0);
+            out.speed[i] = span(&speed, scale[0], big_t, &candidates);
+            let candidates = jerk.roots_and_critical(0.0, 1.0);
+            out.accel[i] = span(&accel, scale[1], big_t, &candidates);
         }
         out
     }

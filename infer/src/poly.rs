@@ -5,9 +5,9 @@
 //! Method: the roots of p in [a, b] are isolated by the roots of p′, found
 //! the same way down to a linear p′ (closed form). Between two consecutive
 //! critical points p is monotone, so it has a root there exactly when it
-//! changes sign, and that root is bracketed; the Illinois variant of
-//! regula falsi closes the bracket (it never leaves it, and converges
-//! superlinearly) until its ends are a few ulps apart. A root of even
+//! changes sign, and that root is bracketed; Newton steps kept inside the
+//! bracket (a bisection where a step would leave it) close in on it until
+//! a step is a few ulps. A root of even
 //! multiplicity (p touches 0 without changing sign) is found only if p is
 //! 0 at a critical point exactly; a caller looking for extrema loses
 //! nothing by it, as such a point is not an extremum, and one that wants
@@ -17,7 +17,7 @@
 /// Highest degree a [`Poly`] holds.
 pub const MAX_DEGREE: usize = 6;
 
-/// Most Illinois steps per root: far more than a bracket of doubles needs.
+/// Most steps per root: far more than a bracket of doubles needs.
 const MAX_STEPS: usize = 200;
 
 /// p(x) = Σ_k c_k x^k, degree ≤ [`MAX_DEGREE`].
@@ -112,18 +112,24 @@ impl Poly {
     /// ascending; none for a constant (the zero polynomial included: it
     /// has no isolated roots). Empty unless a ≤ b.
     pub fn roots_in(&self, a: f64, b: f64) -> Points {
+        self.roots_and_critical(a, b)[0]
+    }
+
+    /// [`Self::roots_in`], and the roots of p′ in [a, b] that isolate them.
+    pub fn roots_and_critical(&self, a: f64, b: f64) -> [Points; 2] {
         let mut out = Points::EMPTY;
         if !(a <= b) || self.len < 2 {
-            return out;
+            return [out, Points::EMPTY];
         }
         if self.len == 2 {
             let x = -self.c[0] / self.c[1];
             if (a..=b).contains(&x) {
                 out.push(x);
             }
-            return out;
+            return [out, Points::EMPTY];
         }
-        let critical = self.derivative().roots_in(a, b);
+        let d = self.derivative();
+        let critical = d.roots_in(a, b);
         let mut lo = a;
         let mut f_lo = self.eval(a);
         for &hi in critical.as_slice().iter().chain(core::iter::once(&b)) {
@@ -131,14 +137,14 @@ impl Poly {
             if f_lo == 0.0 {
                 out.push(lo);
             } else if f_hi != 0.0 && (f_lo < 0.0) != (f_hi < 0.0) {
-                out.push(self.illinois(lo, hi, f_lo, f_hi));
+                out.push(self.refine(&d, lo, hi, f_lo));
             }
             (lo, f_lo) = (hi, f_hi);
         }
         if f_lo == 0.0 {
             out.push(lo);
         }
-        out
+        [out, critical]
     }
 
     /// The roots of p′ in [a, b] and of p″ (where p′ may touch 0 without
@@ -149,43 +155,34 @@ impl Poly {
         [d.roots_in(a, b), d.derivative().roots_in(a, b)]
     }
 
-    /// The root of p in [lo, hi], where p is monotone and f_lo, f_hi are
-    /// of opposite signs.
-    fn illinois(&self, mut lo: f64, mut hi: f64, mut f_lo: f64, mut f_hi: f64) -> f64 {
-        // Which end moved last (−1 low, +1 high): when the same end moves
-        // twice running, the other end's value is halved (Illinois).
-        let mut last = 0i8;
+    /// The root of p in [lo, hi], where p is monotone and f_lo = p(lo),
+    /// p(hi) are of opposite signs: Newton steps from the middle, each kept
+    /// inside the bracket (else a bisection), the bracket shrinking with
+    /// every step, until a step is a few ulps.
+    fn refine(&self, d: &Poly, mut lo: f64, mut hi: f64, f_lo: f64) -> f64 {
+        let mut x = 0.5 * (lo + hi);
         for _ in 0..MAX_STEPS {
-            let secant = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
-            let x = if secant > lo && secant < hi {
-                secant
-            } else {
-                0.5 * (lo + hi)
-            };
-            if !(x > lo && x < hi) {
-                break;
-            }
             let f = self.eval(x);
             if f == 0.0 {
                 return x;
             }
             if (f < 0.0) == (f_lo < 0.0) {
-                (lo, f_lo) = (x, f);
-                if last == -1 {
-                    f_hi *= 0.5;
-                }
-                last = -1;
+                lo = x;
             } else {
-                (hi, f_hi) = (x, f);
-                if last == 1 {
-                    f_lo *= 0.5;
-                }
-                last = 1;
+                hi = x;
             }
-            if hi - lo <= 4.0 * f64::EPSILON * lo.abs().max(hi.abs()) {
-                break;
+            let newton = x - f / d.eval(x);
+            let next = if newton > lo && newton < hi {
+                newton
+            } else {
+                0.5 * (lo + hi)
+            };
+            let settled = (next - x).abs() <= 4.0 * f64::EPSILON * x.abs().max(f64::MIN_POSITIVE);
+            if settled || !(next > lo && next < hi) {
+                return next.clamp(lo, hi);
             }
+            x = next;
         }
-        if f_lo.abs() <= f_hi.abs() { lo } else { hi }
+        x
     }
 }
