@@ -27,8 +27,9 @@
 //! exact there, the load of the later sample), and the check's range is
 //! widened by [`TORQUE_MARGIN`] and [`POWER_MARGIN`] for what lies between
 //! those points. Why: where the tip crosses a face an earlier dig left,
-//! the cut depth changes within one step, and on the shipped plans' digs
-//! torque peaked up to 45 N·m above the samples (6.6 W for power). Why the
+//! the cut depth changes within one step, and on the plans shipped before
+//! this check torque peaked up to 45 N·m above the samples (6.6 W for
+//! power). Why the
 //! figures hold (`tests/limits.rs`, which fails if they do not): on random
 //! digs and on the planners' digs the rise between samples stays below a
 //! third of the near band, and a grid 64× finer than the samples' finds
@@ -50,7 +51,8 @@ use crate::trajectory::{DigParams, Trajectory};
 pub const SUBSTEPS: usize = 8;
 /// A step whose ends come within this of the torque limit \[N·m\] or
 /// [`NEAR_POWER`] of the power limit \[W\] is checked on the finer grid;
-/// the largest rise between samples measured is 45 N·m and 6.6 W.
+/// the largest rise between samples measured is 45 N·m and 6.6 W
+/// (`tests/limits.rs` holds it below a third of these).
 pub const NEAR_TORQUE: f64 = 150.0;
 pub const NEAR_POWER: f64 = 40.0;
 /// Kept free below the torque limit for the peak between the finer
