@@ -33,7 +33,7 @@
 //! figures hold (`tests/limits.rs`, which fails if they do not): on random
 //! digs and on the planners' digs the rise between samples stays below a
 //! third of the near band, and a grid 64× finer than the samples' finds
-//! peaks no more than half a margin above the checked ones.
+//! every peak at least half a margin inside the checked range.
 
 use crate::config::Config;
 use crate::dig::{CHECKS, Check, DigTask, Quantity, sample_time};
