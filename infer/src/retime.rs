@@ -24,7 +24,9 @@
 //! is bounded by the exact peaks of speed and acceleration, not the
 //! sampled ones, and by the torque and power limits less the margins kept
 //! for between samples ([`crate::limits`]), so a retimed dig holds its
-//! limits in continuous time.
+//! limits in continuous time. The record holds torque at the samples
+//! only; where the finer grid between them finds more, the exact check
+//! rejects the stretch and the dig is kept as it was.
 
 use crate::config::Config;
 use crate::dig::{DigReport, DigTask, Ground, Quantity, kinematic_peaks};
