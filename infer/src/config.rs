@@ -165,9 +165,9 @@ pub struct Config {
     pub terrain_dx: f64,
     /// Hold the limits in continuous time ([`crate::limits`]): joint
     /// angle, speed and acceleration at their exact extrema over [0, T],
-    /// torque and power at the samples with a margin kept for between
-    /// them; a report's peaks are then those (torque and power including
-    /// the finer grid). Off (the default): spec §6's checks at the time
+    /// torque and power also on a finer grid near their limits, with a
+    /// margin kept for between its points; a report's peaks are then
+    /// those. Off (the default): spec §6's checks at the time
     /// samples, the problem the datasets were optimised on. The planners
     /// turn it on.
     #[serde(skip_serializing_if = "is_false")]
