@@ -7,12 +7,12 @@
 //! critical points p is monotone, so it has a root there exactly when it
 //! changes sign, and that root is bracketed; Newton steps kept inside the
 //! bracket (a bisection where a step would leave it) close in on it until
-//! a step is a few ulps. A root of even
-//! multiplicity (p touches 0 without changing sign) is found only if p is
-//! 0 at a critical point exactly; a caller looking for extrema loses
-//! nothing by it, as such a point is not an extremum, and one that wants
-//! to be safe against near-double roots also tries p′'s critical points
-//! ([`Poly::critical_points`]).
+//! a step is a few ulps. A root of even multiplicity (p touches 0 without
+//! changing sign) is found only if p is 0 at a critical point exactly; a
+//! caller looking for extrema loses nothing by it, as such a point is not
+//! an extremum, and one that wants to be safe against near-double roots
+//! also tries the critical points that isolate them
+//! ([`Poly::roots_and_critical`]).
 
 /// Highest degree a [`Poly`] holds.
 pub const MAX_DEGREE: usize = 6;
@@ -145,14 +145,6 @@ impl Poly {
             out.push(lo);
         }
         [out, critical]
-    }
-
-    /// The roots of p′ in [a, b] and of p″ (where p′ may touch 0 without
-    /// a sign change that rounding hides), ascending: with a and b, every
-    /// point where p can take its extreme values on [a, b].
-    pub fn critical_points(&self, a: f64, b: f64) -> [Points; 2] {
-        let d = self.derivative();
-        [d.roots_in(a, b), d.derivative().roots_in(a, b)]
     }
 
     /// The root of p in [lo, hi], where p is monotone and f_lo = p(lo),

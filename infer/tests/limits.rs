@@ -109,7 +109,7 @@ fn a_double_root_shows_among_the_critical_points() {
     let p = from_roots(&[0.5, 0.5, 0.1]);
     let roots = p.roots_in(0.0, 1.0);
     assert!((roots.as_slice()[0] - 0.1).abs() < 1e-15);
-    let [d1, _] = p.critical_points(0.0, 1.0);
+    let [_, d1] = p.roots_and_critical(0.0, 1.0);
     assert!(
         d1.as_slice().iter().any(|x| (x - 0.5).abs() < 1e-12),
         "{d1:?}"
