@@ -2,7 +2,9 @@
 //! core of the 2-core development machine), retiming a dig (one
 //! recorded evaluation, the search on the record, one exact check), and
 //! the same dig stretched to its fastest first (`record_fastest`: the
-//! trajectory's peaks, one recorded evaluation there, the search).
+//! trajectory's peaks, one recorded evaluation there, the search); one
+//! evaluation with the limits in continuous time, and the exact joint
+//! extrema alone (`infer::limits`).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use infer::retime::{RetimeWork, best_stretch, record_fastest, retime};
@@ -25,6 +27,30 @@ fn bench(c: &mut Criterion) {
                 infer::evaluate(&cfg, black_box(&task), black_box(&y), ground, &mut buf).unwrap(),
             )
         })
+    });
+    // The same with the limits held in continuous time (the planners' model):
+    // the exact joint extrema on top of the sampled evaluation.
+    let continuous = Config {
+        continuous_limits: true,
+        ..cfg
+    };
+    c.bench_function("evaluate_dig_continuous_limits", |b| {
+        b.iter(|| {
+            black_box(
+                infer::evaluate(
+                    &continuous,
+                    black_box(&task),
+                    black_box(&y),
+                    ground,
+                    &mut buf,
+                )
+                .unwrap(),
+            )
+        })
+    });
+    let traj = infer::Trajectory::new(&task.start, &task.end, &y).unwrap();
+    c.bench_function("joint_extrema", |b| {
+        b.iter(|| black_box(infer::limits::JointExtrema::of(black_box(&traj))))
     });
     // The reference Y is near its best stretch already: retime a slower copy.
     let slow = infer::repair::rescale(&y, 1.1);

@@ -12,6 +12,7 @@ use crate::config::Config;
 use crate::dynamics::inverse_dynamics;
 use crate::error::{Error, UnknownName, ensure_finite};
 use crate::kinematics::{LinkFrames, check_joint_range, mul_jacobian};
+use crate::limits::{JointExtrema, NEAR_POWER, NEAR_TORQUE, between_samples_dynamics};
 use crate::math::{PI, atan2};
 use crate::resistance::tip_resistance;
 use crate::terrain::{CarveBuffer, Carver, Terrain};
@@ -351,6 +352,11 @@ pub(crate) fn walk(
     let terrain = ground.terrain;
     let dig_angle = dig_angle(cfg, task, &traj);
     let obj = &cfg.objective;
+    let extrema = cfg.continuous_limits.then(|| JointExtrema::of(&traj));
+    // In continuous time, a step whose ends come near the torque or power
+    // limit is checked on a finer grid too ([`crate::limits`]).
+    let near = [m.max_torque - NEAR_TORQUE, m.max_power - NEAR_POWER];
+    let mut prev_near = false;
 
     let mut carver = Carver::new(terrain, scratch);
     let empty = [[f64::INFINITY, f64::NEG_INFINITY]; 3];
@@ -405,6 +411,20 @@ pub(crate) fn walk(
         let power: f64 = (0..3).map(|i| (torque[i] * js.qd[i]).abs()).sum();
         r.widen(&js, &torque);
         power_max = power_max.max(power);
+        if extrema.is_some() {
+            let is_near = power > near[1] || torque.iter().any(|t| t.abs() > near[0]);
+            if k > 0 && (is_near || prev_near) {
+                let load = cfg.soil.density * volume;
+                let (t0, b) = (t - dt, ground.base_x);
+                between_samples_dynamics(cfg, &traj, terrain, b, t0, dt, load, |tau, p| {
+                    for (range, &v) in r.tau.iter_mut().zip(tau) {
+                        widen(range, v);
+                    }
+                    power_max = power_max.max(p);
+                });
+            }
+            prev_near = is_near;
+        }
         if k > 0 {
             energy += 0.5 * (prev_power + power) * dt;
         }
@@ -434,6 +454,7 @@ pub(crate) fn walk(
                 dig_angle,
                 volume.max(v_min),
                 big_t,
+                extrema.as_ref(),
             );
             let violation = bound.iter().map(Check::violation).sum::<f64>() + (c.extra)();
             let worse = if c.reference.violation > 0.0 {
@@ -449,16 +470,29 @@ pub(crate) fn walk(
 
     let volume = width * carver.area();
     let (terms, objective) = obj.of(big_t, energy, volume);
-    let checks = checks(cfg, task, &r, power_max, dig_angle, volume, big_t);
+    let checks = checks(
+        cfg,
+        task,
+        &r,
+        power_max,
+        dig_angle,
+        volume,
+        big_t,
+        extrema.as_ref(),
+    );
     let peak = |r: &[[f64; 2]; 3]| core::array::from_fn(|i| r[i][0].abs().max(r[i][1].abs()));
+    // Speeds and accelerations as checked: exact extrema when continuous.
+    let checked = |first: usize| -> [f64; 3] {
+        core::array::from_fn(|i| checks[first + i].min.abs().max(checks[first + i].max.abs()))
+    };
     Ok(Some(DigReport {
         duration: big_t,
         volume,
         energy,
         peak_torque: peak(&r.tau),
         peak_power: power_max,
-        peak_speed: peak(&r.qd),
-        peak_accel: peak(&r.qdd),
+        peak_speed: checked(3),
+        peak_accel: checked(6),
         dig_angle,
         objective,
         objective_terms: terms,
@@ -471,14 +505,15 @@ pub(crate) fn walk(
 /// Time of sample `k` of `n` on a grid of step `dt` over [0, T]: the last
 /// is exactly T, whatever the rounding of k·dt.
 #[inline]
-fn sample_time(k: usize, n: usize, dt: f64, big_t: f64) -> f64 {
+pub(crate) fn sample_time(k: usize, n: usize, dt: f64, big_t: f64) -> f64 {
     if k == n - 1 { big_t } else { k as f64 * dt }
 }
 
 /// Peak |θ̇_i| and |θ̈_i| over the time grid, as [`evaluate`] reports them
-/// (the same samples, bit for bit), from the trajectory alone: about a
-/// fifteenth of an evaluation, for a caller that needs only the limits
-/// time stretching acts on.
+/// (the same samples, bit for bit; with [`Config::continuous_limits`] the
+/// exact peaks), from the trajectory alone: about a fifteenth of an
+/// evaluation, for a caller that needs only the limits time stretching
+/// acts on.
 pub fn kinematic_peaks(
     cfg: &Config,
     task: &DigTask,
@@ -496,11 +531,20 @@ pub fn kinematic_peaks(
             accel[i] = accel[i].max(js.qdd[i].abs());
         }
     }
+    if cfg.continuous_limits {
+        let e = JointExtrema::of(&traj);
+        let abs = |s: &[crate::limits::Extremum; 2]| s[0].value.abs().max(s[1].value.abs());
+        for i in 0..3 {
+            speed[i] = speed[i].max(abs(&e.speed[i]));
+            accel[i] = accel[i].max(abs(&e.accel[i]));
+        }
+    }
     Ok((speed, accel))
 }
 
 /// The constraints of spec §6 on the ranges seen, peak power, dig angle,
-/// volume and duration.
+/// volume and duration; in continuous time when `extrema` are given.
+#[allow(clippy::too_many_arguments)]
 fn checks(
     cfg: &Config,
     task: &DigTask,
@@ -509,6 +553,7 @@ fn checks(
     dig_angle: f64,
     volume: f64,
     big_t: f64,
+    extrema: Option<&JointExtrema>,
 ) -> [Check; CHECKS] {
     let m = &cfg.machine;
     let obj = &cfg.objective;
@@ -534,7 +579,7 @@ fn checks(
         upper: Some(range[1]),
         scale: range[1] - range[0],
     };
-    core::array::from_fn(|c| match c {
+    let mut out = core::array::from_fn(|c| match c {
         0..=2 => per_joint(
             Quantity::JointAngle,
             c,
@@ -575,7 +620,11 @@ fn checks(
         13 => interval(Quantity::DigAngle, dig_angle, angle_range),
         14 => interval(Quantity::Volume, volume, obj.volume),
         _ => interval(Quantity::Duration, big_t, obj.duration),
-    })
+    });
+    if let Some(e) = extrema {
+        e.widen(&mut out);
+    }
+    out
 }
 
 #[inline]

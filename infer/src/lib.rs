@@ -33,6 +33,7 @@ pub mod dig;
 pub mod dynamics;
 pub mod error;
 pub mod kinematics;
+pub mod limits;
 pub mod machine;
 pub mod math;
 pub mod network;
@@ -40,6 +41,7 @@ pub mod pile;
 #[cfg(feature = "std")]
 pub mod plan;
 pub mod planner;
+pub mod poly;
 pub mod predictor;
 pub mod query;
 pub mod repair;

@@ -19,11 +19,20 @@
 //! speed and acceleration limits allow, which the trajectory alone gives:
 //! [`record_fastest`] evaluates it there first, and needs no second
 //! evaluation unless a slower stretch does better.
+//!
+//! Under [`Config::continuous_limits`] (the planners' model) the stretch
+//! is bounded by the exact peaks of speed and acceleration, not the
+//! sampled ones, and by the torque and power limits less the margins kept
+//! for between samples ([`crate::limits`]), so a retimed dig holds its
+//! limits in continuous time. The record holds torque at the samples
+//! only; where the finer grid between them finds more, the exact check
+//! rejects the stretch and the dig is kept as it was.
 
 use crate::config::Config;
 use crate::dig::{DigReport, DigTask, Ground, Quantity, kinematic_peaks};
 use crate::dynamics::static_torque;
 use crate::error::Error;
+use crate::limits::drive_limits;
 use crate::repair::{Assessment, DesignGuard, assess, assess_framed, rescale};
 use crate::terrain::CarveBuffer;
 use crate::trajectory::DigParams;
@@ -411,10 +420,10 @@ fn golden(at: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, best: (f64, f64)) ->
 /// The objective the record predicts at stretch `k`, or infinity when a
 /// torque or power limit would break.
 fn predict(cfg: &Config, r: &DigReport, duration: f64, records: &[Record], k: f64) -> f64 {
-    let m = &cfg.machine;
     let x = 1.0 / (k * k);
     let inside = 1.0 - SAFETY;
-    let (max_torque, max_h) = (m.max_torque * inside, m.max_power * inside * k);
+    let (torque, power) = drive_limits(cfg);
+    let (max_torque, max_h) = (torque * inside, power * inside * k);
     let dt = duration / (records.len() - 1) as f64;
     let (mut energy, mut prev) = (0.0, 0.0);
     for (j, s) in records.iter().enumerate() {

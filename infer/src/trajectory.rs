@@ -122,4 +122,24 @@ impl Trajectory {
             ]
         })
     }
+
+    /// Each joint as a polynomial in s = t/T ∈ [0, 1], constant first:
+    /// θ_i = θ_s,i + Δ_i (10 s³ − 15 s⁴ + 6 s⁵) + c_i (s⁶ − 3 s⁵ + 3 s⁴ − s³)
+    /// with c_i = a_i6 T⁶, the path's bend (a stretch in time keeps it).
+    /// Speed is dθ/ds / T and acceleration d²θ/ds² / T².
+    pub fn unit_coefficients(&self) -> [[f64; 7]; 3] {
+        let t3 = self.duration * self.duration * self.duration;
+        core::array::from_fn(|i| {
+            let (d, c) = (self.delta[i], self.a6[i] * t3 * t3);
+            [
+                self.start[i],
+                0.0,
+                0.0,
+                10.0 * d - c,
+                -15.0 * d + 3.0 * c,
+                6.0 * d - 3.0 * c,
+                c,
+            ]
+        })
+    }
 }

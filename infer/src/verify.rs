@@ -1,14 +1,15 @@
 //! Replaying a plan under the exact model (`std`), so that a plan file can
 //! be trusted on its own: whoever executes it (a controller, a test rig)
 //! can check, without the planner's word for it, that every dig in order
-//! meets every hard constraint and the design guard on the surface the
-//! digs before it left, and that the figures and surfaces it records are
-//! what the model gives.
+//! meets every hard constraint, in continuous time ([`crate::limits`]), and
+//! the design guard on the surface the digs before it left, and that the
+//! figures and surfaces it records are what the model gives.
 
 // Errors carry the violated constraint by value: no heap in `no_std`, so no Box.
 #![allow(clippy::result_large_err)]
 
 use crate::error::Error;
+use crate::limits::{Breach, between_samples};
 use crate::plan::Plan;
 use crate::planner::Planner;
 use crate::repair::{Violation, assess};
@@ -34,6 +35,8 @@ pub enum VerifyError {
     Model { dig: usize, error: Error },
     #[error("dig {dig} breaks a constraint under the exact model: {violation}", dig = dig + 1)]
     Infeasible { dig: usize, violation: Violation },
+    #[error("dig {dig} breaks a limit in continuous time: {breach}", dig = dig + 1)]
+    BetweenSamples { dig: usize, breach: Breach },
     #[error(
         "dig {dig}: recorded {what} {recorded:e} but the exact model gives {replayed:e}",
         dig = dig + 1
@@ -134,6 +137,11 @@ impl Plan {
             )
             .map_err(|error| VerifyError::Model { dig: k, error })?;
             if let Some(violation) = a.worst(Some(&guard)) {
+                if let Violation::Check(c) = &violation
+                    && let Ok(Some(breach)) = between_samples(cfg, &d.query.task(), &d.params, c)
+                {
+                    return Err(VerifyError::BetweenSamples { dig: k, breach });
+                }
                 return Err(VerifyError::Infeasible { dig: k, violation });
             }
             same_figures(k, &d.report, &a.report)?;

@@ -207,12 +207,20 @@ impl Planner {
                 field: "max_evaluations (at least 2, and not with rollouts)",
             });
         }
+        // A plan is run by a controller in continuous time: its digs must
+        // hold every limit between the time samples too.
+        let cfg = Config {
+            continuous_limits: true,
+            ..*cfg
+        };
         Ok(Planner {
-            cfg: *cfg,
+            cfg,
             settings: *settings,
         })
     }
 
+    /// The model the planner plans and checks with: the caller's, with
+    /// [`Config::continuous_limits`] on.
     pub fn config(&self) -> &Config {
         &self.cfg
     }

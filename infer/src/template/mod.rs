@@ -15,8 +15,9 @@
 //! (a controller's worst case). A move of dig k replays digs k.. only: the
 //! surfaces the digs before it left are kept.
 //!
-//! Every dig of the result is feasible under the exact model and within the
-//! design guard, or the result is an error naming the constraint. The
+//! Every dig of the result is feasible under the exact model, its limits
+//! held in continuous time ([`crate::limits`]), and within the design
+//! guard, or the result is an error naming the constraint. The
 //! machine stays at its first position, so a task must lie within reach.
 //! Nothing allocates: the work lives in a caller-owned [`TemplateWork`].
 
