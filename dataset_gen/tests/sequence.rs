@@ -85,3 +85,16 @@ fn bad_tasks_and_settings_are_errors() {
         "{e}"
     );
 }
+
+/// Settings written before the optimiser could be chosen (the shipped
+/// library's `library.json`) read back as PSO's, not as today's default.
+#[test]
+fn settings_without_an_optimiser_are_pso() {
+    let old: SequenceSettings =
+        serde_json::from_str(r#"{"population": 100, "iterations": 750}"#).unwrap();
+    assert_eq!(old.optimiser, dataset_gen::sequence::SequenceOptimiser::Pso);
+    assert_eq!(
+        SequenceSettings::default().optimiser,
+        dataset_gen::sequence::SequenceOptimiser::Cmaes
+    );
+}

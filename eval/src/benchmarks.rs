@@ -251,7 +251,7 @@ pub fn measure(
     // The network alone on those digs, as eval's comparison answers them.
     let mut alone = SurfaceMatched::new(
         networks.pair()?,
-        &cfg,
+        planner.config(),
         &planner.settings().ranges,
         EvalSettings::default().alone_tries,
     )?;

@@ -115,7 +115,7 @@ impl Default for EvalSettings {
 impl EvalSettings {
     /// The under-a-minute form: the same 24 tasks planned with the network
     /// and every dig solved again by PSO only (no GWO or NSGA-II), plain and
-    /// guarded; the whole-task comparison on tasks A–D only; no sequence PSO.
+    /// guarded; the whole-task comparison on tasks A–D only; no sequence search.
     pub fn quick() -> Self {
         EvalSettings {
             dig_by_dig: Coverage::All,
@@ -147,10 +147,10 @@ impl EvalSettings {
         }
         match self.sequence {
             Coverage::All | Coverage::Reference => {}
-            Coverage::Skip => out.push("no sequence PSO".into()),
+            Coverage::Skip => out.push("no sequence search".into()),
         }
         if self.sequence != Coverage::Skip && self.sequence_search != SequenceSettings::default() {
-            out.push("sequence PSO budget differs from the default".into());
+            out.push("sequence search settings differ from the default".into());
         }
         match &self.templates {
             None => out.push("no template planner".into()),
@@ -212,7 +212,7 @@ pub struct EvalReport {
 }
 
 /// A task's plans: with the network, with the optimiser in the loop, by
-/// sequence PSO and from templates, each when planned.
+/// the sequence search and from templates, each when planned.
 #[derive(Debug, Clone)]
 pub struct TaskPlans {
     pub name: String,
@@ -272,7 +272,7 @@ pub fn evaluate(
         &selected,
         &mut SurfaceMatched::new(
             networks.pair()?,
-            cfg,
+            planner.config(),
             &settings.planner.ranges,
             settings.alone_tries,
         )?,
@@ -310,7 +310,7 @@ pub fn evaluate(
         "sequences",
         show_progress,
     );
-    bar.set_message("sequence PSO");
+    bar.set_message("sequence search");
     let sequences = optimise_sequences(&planner, &by_sequence, s, settings.seed, &bar);
     bar.finish_and_clear();
 

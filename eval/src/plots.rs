@@ -192,7 +192,7 @@ pub fn dig_time(path: &Path, report: &EvalReport) -> Result<(), EvalError> {
 
 /// The plans as `infer` draws them: `<dir>/<task>.svg|json` (network),
 /// `<dir>/<task>_pso.svg|json` (optimiser in the loop),
-/// `<dir>/<task>_sequence.svg|json` (sequence PSO) and
+/// `<dir>/<task>_sequence.svg|json` (the sequence search) and
 /// `<dir>/<task>_templates.svg|json` (from templates).
 pub fn plans(dir: &Path, report: &EvalReport) -> Result<(), EvalError> {
     for p in &report.plans {
@@ -229,7 +229,7 @@ pub fn plans(dir: &Path, report: &EvalReport) -> Result<(), EvalError> {
             write_file(&dir.join(format!("{name}_pso.json")), &o.to_json())?;
         }
         for (suffix, label, plan) in [
-            ("sequence", "sequence PSO", &p.sequence),
+            ("sequence", "sequence search", &p.sequence),
             ("templates", "from templates", &p.templates),
         ] {
             if let Some(q) = plan {

@@ -236,7 +236,7 @@ fn baseline_summary(method: &str, digs: &[DigRow]) -> BaselineSummary {
 /// Most under- and over-dug area per task of the spec (issue 5), as fractions.
 pub(crate) const PROFILE_GOAL: f64 = 0.03;
 
-/// The profile goal on tasks A–D: the network's plans, with sequence PSO's
+/// The profile goal on tasks A–D: the network's plans, with the sequence search's
 /// (the offline reference) and the template planner's alongside where
 /// they ran. Met when the network's or the template planner's (both
 /// `infer`'s real-time planners) are all within it.
@@ -277,7 +277,7 @@ fn profile_goal(tasks: &[TaskReport], whole: &[WholeTaskRow]) -> Goal {
         .collect();
     let mut measured = format!("network {}", describe(&network));
     if !sequence.is_empty() {
-        measured += &format!("; sequence PSO (offline) {}", describe(&sequence));
+        measured += &format!("; sequence search (offline) {}", describe(&sequence));
     }
     if !templates.is_empty() {
         measured += &format!("; from templates {}", describe(&templates));

@@ -32,16 +32,16 @@ struct Cli {
 /// The optimiser and budget of a sequence search (defaults: `SequenceSettings::default()`).
 #[derive(clap::Args, Debug)]
 struct SequenceArgs {
-    /// pso (default), pso-v10, cmaes or gwo.
+    /// cmaes (default), pso, pso-v10 or gwo.
     #[arg(long)]
     optimiser: Option<String>,
     /// Number of digs (default: the planner's expected count).
     #[arg(long)]
     digs: Option<usize>,
-    /// Population, or CMA-ES's samples per generation (default 100).
+    /// Population, or CMA-ES's samples per generation (default 20).
     #[arg(long)]
     population: Option<usize>,
-    /// Iterations per run (default 750).
+    /// Iterations per run (default 3,750).
     #[arg(long)]
     iterations: Option<usize>,
     /// Independent runs, the best kept (default 8).

@@ -419,8 +419,12 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
             let q = &report.settings.sequence_search;
             let _ = writeln!(
                 out,
-                "\n## Whole tasks: sequence PSO (offline reference)\n\nPSO over every dig of the task at once ({} restarts × {} × {}, then a compass search of {} evaluations): each dig's type, start, chord, end lift, bucket attitudes, bends and T chosen together to minimise under- plus over-dug area, every dig feasible and within the design guard, the machine at its first position. What the dig family reaches on the profile with the planner's expected number of digs; seconds, not milliseconds.\n",
-                q.restarts, q.population, q.iterations, q.polish
+                "\n## Whole tasks: the sequence search (offline reference)\n\n{} over every dig of the task at once ({} restarts × {} × {}, then a compass search of {} evaluations): each dig's type, start, chord, end lift, bucket attitudes, bends and T chosen together to minimise under- plus over-dug area, every dig feasible and within the design guard, the machine at its first position. What the dig family reaches on the profile with the planner's expected number of digs; seconds, not milliseconds.\n",
+                q.optimiser.name(),
+                q.restarts,
+                q.population,
+                q.iterations,
+                q.polish
             );
             whole_plans_table(&mut out, report, |w| w.sequence.as_ref());
         }
@@ -443,7 +447,7 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
     }
     let _ = writeln!(
         out,
-        "\n## Files\n\n`report.json` (everything), `digs.csv` (every dig, every method), `tasks.csv`, `table4.csv`, `whole.csv`, `objective_gap.svg` (per-dig objective of the network relative to each optimiser), `dig_time.svg` (planning time per dig, log scale), `plans/<task>.svg|json` (the network's plans), `plans/<task>_pso.svg|json` (PSO in the loop), `plans/<task>_sequence.svg|json` (sequence PSO) and `plans/<task>_templates.svg|json` (from templates)."
+        "\n## Files\n\n`report.json` (everything), `digs.csv` (every dig, every method), `tasks.csv`, `table4.csv`, `whole.csv`, `objective_gap.svg` (per-dig objective of the network relative to each optimiser), `dig_time.svg` (planning time per dig, log scale), `plans/<task>.svg|json` (the network's plans), `plans/<task>_pso.svg|json` (PSO in the loop), `plans/<task>_sequence.svg|json` (the sequence search) and `plans/<task>_templates.svg|json` (from templates)."
     );
     out
 }
