@@ -395,20 +395,8 @@ pub fn objective_for(algorithm: &AnyAlgorithm) -> DigObjective {
 /// the run's archive of non-dominated points (the final population's front
 /// holds only 100 of them, spread over the whole trade-off).
 pub fn weighted_choice(problem: &mut DigProblem, run: &RunResult) -> Individual {
-    let mut best: Option<(f64, f64, &Individual)> = None;
     let archived = problem.best_weighted.clone();
-    for m in run
-        .front
-        .iter()
-        .chain(std::iter::once(&run.best))
-        .chain(archived.as_ref())
-    {
-        let (f, v) = problem.weighted(&m.x);
-        if best.is_none_or(|(bf, bv, _)| compare_single(v, f, bv, bf).is_lt()) {
-            best = Some((f, v, m));
-        }
-    }
-    best.map_or(&run.best, |(_, _, m)| m).clone()
+    run.weighted_choice(archived.as_ref(), |x| problem.weighted(x))
 }
 
 /// Optimises one query with `algorithm` (PSO/GWO on the weighted objective,

@@ -5,7 +5,7 @@
 //! The median f1 of GWO's optima over the seeds' scans is close to affine
 //! in K0 (the resistance's work grows with K0, gravity's does not), so a
 //! secant search from the current K0 and 1.2 × it converges in a few steps.
-//! The answer is rounded to three significant figures and planned once
+//! The answer is rounded to four significant figures and planned once
 //! more, so the figure recorded is the one the default gives.
 
 use super::problem::ShovelBounds;
@@ -16,6 +16,9 @@ use serde::Serialize;
 
 /// The source's f1 on the typical pile (J/kg, §6).
 pub const SOURCE_TYPICAL_F1: f64 = 17.19;
+
+/// How close (J/kg) the median f1 must come to the target.
+pub const TOLERANCE: f64 = 0.02;
 
 /// One K0 tried and the median f1 of GWO's optima.
 #[derive(Debug, Clone, Serialize)]
@@ -60,14 +63,15 @@ fn step(
     })
 }
 
-/// Rounds to three significant figures.
-fn round3(v: f64) -> f64 {
-    let e = 10f64.powi(v.abs().log10().floor() as i32 - 2);
+/// Rounds to four significant figures.
+fn round4(v: f64) -> f64 {
+    let e = 10f64.powi(v.abs().log10().floor() as i32 - 3);
     (v / e).round() * e
 }
 
 /// The secant search for K0 on the (typical-pile) `cases`, from
-/// `params.k0`; the last step is the rounded answer.
+/// `params.k0`; the last step is the answer (rounded, unless the
+/// starting K0 is already within [`TOLERANCE`]).
 pub fn calibrate(
     cases: &[Case],
     target_f1: f64,
@@ -76,10 +80,13 @@ pub fn calibrate(
     budget: (usize, usize),
 ) -> Result<Vec<CalibrationStep>, Error> {
     let mut steps = vec![step(cases, params.k0, params, bounds, budget)?];
+    if (steps[0].median_f1 - target_f1).abs() < TOLERANCE {
+        return Ok(steps);
+    }
     steps.push(step(cases, params.k0 * 1.2, params, bounds, budget)?);
     for _ in 0..6 {
         let [a, b] = [&steps[steps.len() - 2], &steps[steps.len() - 1]];
-        if (b.median_f1 - target_f1).abs() < 0.02 {
+        if (b.median_f1 - target_f1).abs() < TOLERANCE {
             break;
         }
         let slope = (b.median_f1 - a.median_f1) / (b.k0 - a.k0);
@@ -100,6 +107,6 @@ pub fn calibrate(
                 .total_cmp(&(b.median_f1 - target_f1).abs())
         })
         .map_or(params.k0, |s| s.k0);
-    steps.push(step(cases, round3(best), params, bounds, budget)?);
+    steps.push(step(cases, round4(best), params, bounds, budget)?);
     Ok(steps)
 }

@@ -15,6 +15,23 @@ fn err(path: &Path) -> impl Fn(&dyn std::fmt::Display) -> Error + '_ {
     }
 }
 
+type Chart<'a, 'b> = ChartContext<
+    'a,
+    SVGBackend<'b>,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
+/// Draws a chart's legend in its upper left corner.
+fn legend<'a, 'b: 'a>(chart: &mut Chart<'a, 'b>) -> Result<(), String> {
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::UpperLeft)
+        .draw()
+        .map_err(|e| e.to_string())
+}
+
 /// Writes the two-panel SVG of a dig's `samples` on `surface` to `path`.
 pub fn write_svg(
     path: &Path,
@@ -73,13 +90,7 @@ pub fn write_svg(
         )
         .map_err(|x| e(&x))?
         .label("every 10th time sample");
-    section
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperLeft)
-        .draw()
-        .map_err(|x| e(&x))?;
+    legend(&mut section).map_err(|x| e(&x))?;
 
     let t_end = samples.last().map_or(1.0, |s| s.t).max(1e-9);
     let f_max = params.max_force[0].max(params.max_force[1]) * 1.1;
@@ -121,12 +132,6 @@ pub fn write_svg(
             .map_err(|x| e(&x))?
             .label(format!("{name} rating {rated:.0} N"));
     }
-    forces
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperLeft)
-        .draw()
-        .map_err(|x| e(&x))?;
+    legend(&mut forces).map_err(|x| e(&x))?;
     root.present().map_err(|x| e(&x))
 }

@@ -247,14 +247,7 @@ pub fn plan(
         ShovelObjective::Weighted => run.best.clone(),
         ShovelObjective::Pareto => {
             let archived = problem.best_weighted.take();
-            let mut best: Option<(f64, f64, &Individual)> = None;
-            for m in run.front.iter().chain([&run.best]).chain(archived.as_ref()) {
-                let (f, v) = problem.weighted(&m.x);
-                if best.is_none_or(|(bf, bv, _)| compare_single(v, f, bv, bf).is_lt()) {
-                    best = Some((f, v, m));
-                }
-            }
-            best.map_or(&run.best, |(_, _, m)| m).clone()
+            run.weighted_choice(archived.as_ref(), |x| problem.weighted(x))
         }
     };
     let x = vars(&chosen.x).to_array();
