@@ -29,7 +29,7 @@
 
 use crate::algorithms::AnyAlgorithm;
 use crate::error::Error;
-use crate::problem::{Individual, Problem, compare_single};
+use crate::problem::{Individual, Problem, keep_best};
 use crate::rng::OptRng;
 use crate::runner::{Budget, RunResult, Runner, StopReason};
 use infer::repair::{Assessment, DesignGuard, assess, assess_to_beat};
@@ -279,17 +279,7 @@ impl Problem for DigProblem {
                 f[0] = r.duration;
                 f[1] = r.energy_wh();
                 f[2] = -r.volume * 1e3;
-                if self
-                    .best_weighted
-                    .as_ref()
-                    .is_none_or(|b| compare_single(v, r.objective, b.violation, b.f[0]).is_lt())
-                {
-                    self.best_weighted = Some(Individual {
-                        x: x.to_vec(),
-                        f: vec![r.objective],
-                        violation: v,
-                    });
-                }
+                keep_best(&mut self.best_weighted, x, r.objective, v);
                 v
             }
             (Err(_), _) => {

@@ -30,7 +30,7 @@
 use crate::algorithms::AnyAlgorithm;
 use crate::dig_problem::EVAL_ERROR_VIOLATION;
 use crate::error::Error;
-use crate::problem::{Individual, Problem, compare_single};
+use crate::problem::{Individual, Problem, keep_best};
 use crate::rng::OptRng;
 use crate::runner::{Budget, Runner, StopReason};
 use infer::PileSurface;
@@ -108,7 +108,7 @@ impl ShovelProblem {
         }
         Ok(ShovelProblem {
             params: *params,
-            surface: surface.clone(),
+            surface: *surface,
             bounds: *bounds,
             objective,
             best_weighted: None,
@@ -182,17 +182,7 @@ impl Problem for ShovelProblem {
             ShovelObjective::Pareto => {
                 f[0] = r.f1;
                 f[1] = r.f2;
-                if self
-                    .best_weighted
-                    .as_ref()
-                    .is_none_or(|b| compare_single(v, r.objective, b.violation, b.f[0]).is_lt())
-                {
-                    self.best_weighted = Some(Individual {
-                        x: x.to_vec(),
-                        f: vec![r.objective],
-                        violation: v,
-                    });
-                }
+                keep_best(&mut self.best_weighted, x, r.objective, v);
             }
         }
         v

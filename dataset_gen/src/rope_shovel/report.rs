@@ -142,7 +142,7 @@ pub fn run_cases(
 }
 
 /// The run of `pile` with the median f (the lower middle one for an even count).
-pub fn median_run<'a>(runs: &'a [Run], pile: PileShape) -> Option<&'a Run> {
+pub fn median_run(runs: &[Run], pile: PileShape) -> Option<&Run> {
     let mut mine: Vec<&Run> = runs.iter().filter(|r| r.pile == pile).collect();
     mine.sort_by(|a, b| a.plan.objective().total_cmp(&b.plan.objective()));
     mine.get(mine.len().saturating_sub(1) / 2).copied()
