@@ -29,7 +29,7 @@
 
 use crate::algorithms::AnyAlgorithm;
 use crate::error::Error;
-use crate::problem::{Individual, Problem, compare_single};
+use crate::problem::{Individual, Problem, keep_best};
 use crate::rng::OptRng;
 use crate::runner::{Budget, RunResult, Runner, StopReason};
 use infer::repair::{Assessment, DesignGuard, assess, assess_to_beat};
@@ -279,17 +279,7 @@ impl Problem for DigProblem {
                 f[0] = r.duration;
                 f[1] = r.energy_wh();
                 f[2] = -r.volume * 1e3;
-                if self
-                    .best_weighted
-                    .as_ref()
-                    .is_none_or(|b| compare_single(v, r.objective, b.violation, b.f[0]).is_lt())
-                {
-                    self.best_weighted = Some(Individual {
-                        x: x.to_vec(),
-                        f: vec![r.objective],
-                        violation: v,
-                    });
-                }
+                keep_best(&mut self.best_weighted, x, r.objective, v);
                 v
             }
             (Err(_), _) => {
@@ -395,20 +385,8 @@ pub fn objective_for(algorithm: &AnyAlgorithm) -> DigObjective {
 /// the run's archive of non-dominated points (the final population's front
 /// holds only 100 of them, spread over the whole trade-off).
 pub fn weighted_choice(problem: &mut DigProblem, run: &RunResult) -> Individual {
-    let mut best: Option<(f64, f64, &Individual)> = None;
     let archived = problem.best_weighted.clone();
-    for m in run
-        .front
-        .iter()
-        .chain(std::iter::once(&run.best))
-        .chain(archived.as_ref())
-    {
-        let (f, v) = problem.weighted(&m.x);
-        if best.is_none_or(|(bf, bv, _)| compare_single(v, f, bv, bf).is_lt()) {
-            best = Some((f, v, m));
-        }
-    }
-    best.map_or(&run.best, |(_, _, m)| m).clone()
+    run.weighted_choice(archived.as_ref(), |x| problem.weighted(x))
 }
 
 /// Optimises one query with `algorithm` (PSO/GWO on the weighted objective,

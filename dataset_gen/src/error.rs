@@ -47,6 +47,10 @@ pub enum Error {
     McapWrite(#[from] mcap::McapError),
     #[error("{path}: could not draw: {detail}")]
     Plot { path: PathBuf, detail: String },
+    #[error("rope shovel: {0}")]
+    Shovel(#[from] infer::rope_shovel::ShovelError),
+    #[error("perception: {0}")]
+    Perception(#[from] crate::perception::PerceptionError),
     #[error("JSON error: {0}")]
     Json(#[from] serde_json::Error),
 }

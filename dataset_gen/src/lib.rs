@@ -30,6 +30,7 @@ pub mod problem;
 pub mod quality;
 pub mod rng;
 pub mod roadheader;
+pub mod rope_shovel;
 pub mod runner;
 pub mod sampler;
 pub mod sequence;

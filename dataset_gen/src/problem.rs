@@ -105,6 +105,22 @@ pub fn sanitize(f: &mut [f64], violation: f64) -> f64 {
 /// of the rule).
 pub use infer::sequence::compare as compare_single;
 
+/// Keeps (x, objective, violation) in `best` if it is better there by
+/// Deb's rules: how a multi-objective problem remembers its best weighted
+/// point while an optimiser explores the trade-offs.
+pub fn keep_best(best: &mut Option<Individual>, x: &[f64], objective: f64, violation: f64) {
+    if best
+        .as_ref()
+        .is_none_or(|b| compare_single(violation, objective, b.violation, b.f[0]).is_lt())
+    {
+        *best = Some(Individual {
+            x: x.to_vec(),
+            f: vec![objective],
+            violation,
+        });
+    }
+}
+
 /// Constraint domination of two multi-objective points: true when `a`
 /// constraint-dominates `b`.
 pub fn constrained_dominates(a_f: &[f64], a_viol: f64, b_f: &[f64], b_viol: f64) -> bool {

@@ -116,6 +116,27 @@ pub struct RunResult {
     pub history: Vec<f64>,
 }
 
+impl RunResult {
+    /// The answer of a multi-objective run under a weighted objective: of
+    /// the final front, the best point and `archived` (the problem's own
+    /// best-weighted point, if it kept one), the point best by Deb's rules
+    /// on `weighted(x) = (objective, violation)`.
+    pub fn weighted_choice(
+        &self,
+        archived: Option<&Individual>,
+        mut weighted: impl FnMut(&[f64]) -> (f64, f64),
+    ) -> Individual {
+        let mut best: Option<(f64, f64, &Individual)> = None;
+        for m in self.front.iter().chain([&self.best]).chain(archived) {
+            let (f, v) = weighted(&m.x);
+            if best.is_none_or(|(bf, bv, _)| crate::problem::compare_single(v, f, bv, bf).is_lt()) {
+                best = Some((f, v, m));
+            }
+        }
+        best.map_or(&self.best, |(_, _, m)| m).clone()
+    }
+}
+
 /// Runs algorithms on problems with a budget and a seed.
 #[derive(Debug, Clone, Copy)]
 pub struct Runner<'c> {

@@ -233,6 +233,12 @@ enum Command {
         #[arg(long, default_value_t = 10)]
         multiplier: usize,
     },
+    /// Optimise one rope shovel dig on a (perceived) pile: plan, JSON, SVG.
+    ShovelPlan(dataset_gen::rope_shovel::commands::PlanArgs),
+    /// The rope shovel's planning report: four piles, seeds, optimisers.
+    ShovelReport(dataset_gen::rope_shovel::commands::ReportArgs),
+    /// Calibrate the shovel's K0 on the typical pile (spec §2a).
+    ShovelCalibrate(dataset_gen::rope_shovel::commands::CalibrateArgs),
     /// Single-dig optimisations per second at the source's settings.
     Throughput {
         /// pso, gwo, gwo-random, nsga2, or `all`.
@@ -530,6 +536,9 @@ fn main_inner() -> Result<(), Error> {
         } => print(&dataset_gen::quality::quality(
             queries, seed, multiplier, true,
         )?),
+        Command::ShovelPlan(a) => dataset_gen::rope_shovel::commands::shovel_plan(&a),
+        Command::ShovelReport(a) => dataset_gen::rope_shovel::commands::shovel_report(&a),
+        Command::ShovelCalibrate(a) => dataset_gen::rope_shovel::commands::shovel_calibrate(&a),
         Command::Throughput {
             algorithm,
             queries,

@@ -97,10 +97,10 @@ pub struct ShovelParams {
     /// Bulk density of the dug material (kg/m³). **Assumed** 1,550 (limestone
     /// 2,540 with a swell factor ≈ 1.6), so a full dipper holds 2.05 kg.
     pub density: f64,
-    /// Specific digging resistance K0 (N/m²). **Provisional** 1.77 × 10⁴
-    /// until GWO calibrates it on the typical pile (issue 24 item 3): the
-    /// source's typical optimum then gives f1 = 17.2 J/kg (source 17.19) on
-    /// [`super::volume::typical_pile`] (H 0.4 m, 40°).
+    /// Specific digging resistance K0 (N/m²), 1.836 × 10⁴: calibrated so
+    /// that GWO 50 × 100's optima on five perceived typical piles (H 0.4 m,
+    /// 40°) have the source's f1 = 17.19 J/kg (median 17.196), by
+    /// `dataset_gen shovel-calibrate` (`dataset_gen` README, issue 24 item 3).
     pub k0: f64,
     /// Normal-to-tangential resistance ratio μ, 0.4.
     pub mu: f64,
@@ -164,7 +164,7 @@ impl Default for ShovelParams {
             max_extension: handle_length - d0 + dipper_length,
             handle_angle: [0.0, deg(150.0)],
             density: 1550.0,
-            k0: 1.77e4,
+            k0: 1.836e4,
             mu: 0.4,
             gravity: 9.81,
             max_speed: [0.04, 0.056],
