@@ -336,7 +336,7 @@ fn small_evaluation_writes_every_report_file() {
     for (name, f) in &report.summary.failures {
         assert!(md.contains(&format!("- {name}: {}", f.message)));
     }
-    assert!(md.contains("## Whole tasks: sequence PSO"));
+    assert!(md.contains("## Whole tasks: the sequence search"));
     for w in &report.whole {
         match w.sequence.as_ref().unwrap() {
             Ok(_) => assert!(
