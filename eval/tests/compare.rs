@@ -361,7 +361,7 @@ fn small_evaluation_writes_every_report_file() {
             .summary
             .goals
             .iter()
-            .any(|g| g.what.contains("within 3 %") && g.measured.contains("sequence PSO"))
+            .any(|g| g.what.contains("within 3 %") && g.measured.contains("sequence search"))
     );
     let back: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
