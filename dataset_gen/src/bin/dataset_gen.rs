@@ -10,7 +10,8 @@ use dataset_gen::front;
 use dataset_gen::jobs::parts::{merge_job, run_and_merge};
 use dataset_gen::library;
 use dataset_gen::rng::rng_from_seed;
-use dataset_gen::rope_shovel::dataset::{ShovelGenConfig, is_shovel_dir};
+use dataset_gen::rope_shovel::dataset::{ShovelGenConfig, is_shovel_dir, summarise_shovel};
+use dataset_gen::rope_shovel::sample::read_shovel_dataset;
 use dataset_gen::sequence::{self, SequenceOptimiser, SequenceSettings};
 use dataset_gen::suite::test_problem;
 use dataset_gen::testfns::TestFn;
@@ -358,6 +359,18 @@ fn main_inner() -> Result<(), Error> {
             _ => print(&batch::merge(&dirs, &out)?),
         },
         Command::Inspect { file } => {
+            // A shovel file says so in its metadata; anything else is read as the excavator's.
+            match read_shovel_dataset(&file) {
+                Ok(d) => {
+                    return print(&serde_json::json!({
+                        "file": file, "samples": d.samples.len(),
+                        "metadata_keys": d.metadata.keys().collect::<Vec<_>>(),
+                        "per_type": summarise_shovel(&d.samples),
+                    }));
+                }
+                Err(Error::BadDataset { .. }) => {}
+                Err(e) => return Err(e),
+            }
             let d = dataset_gen::dataset::read_dataset(&file)?;
             print(&serde_json::json!({
                 "file": file, "samples": d.samples.len(), "trajectory_messages": d.trajectory_messages,
