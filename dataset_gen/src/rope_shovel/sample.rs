@@ -218,11 +218,12 @@ pub struct ShovelDataset {
     pub samples: Vec<ShovelSample>,
 }
 
+/// A sample and its message as stored.
+type Encoded = (ShovelSample, Vec<u8>);
+
 /// Each sample of a file with its encoded message and log time, checked to
 /// be on [`SHOVEL_TOPIC`] and to decode.
-fn read_encoded(
-    path: &Path,
-) -> Result<(BTreeMap<String, String>, Vec<(ShovelSample, Vec<u8>)>), Error> {
+fn read_encoded(path: &Path) -> Result<(BTreeMap<String, String>, Vec<Encoded>), Error> {
     let (metadata, messages) = read_messages(path)?;
     if metadata.get("format_version").map(String::as_str) != Some(SHOVEL_FORMAT_VERSION) {
         return Err(Error::BadDataset {
