@@ -1,5 +1,6 @@
-"""Reads a dataset_gen MCAP file with the official `mcap` Python reader
-(pip install mcap) and checks schemas, topics, messages and metadata.
+"""Reads a dataset_gen MCAP file (excavator or rope-shovel digs) with the
+official `mcap` Python reader (pip install mcap) and checks schemas,
+topics, messages and metadata.
 
 Usage: python3 dataset_gen/scripts/check_mcap.py runs/dataset/dataset.mcap
 """
@@ -21,7 +22,13 @@ with open(path, "rb") as f:
         counts[channel.topic] = counts.get(channel.topic, 0) + 1
         assert schema.encoding == "jsonschema" and channel.message_encoding == "json"
         body = json.loads(message.data)
-        if not channel.topic.endswith("trajectory"):
+        if channel.topic == "/shovel/dig":
+            assert schema.name == "dataset_gen.ShovelSample"
+            assert body["index"] > last_index, "samples in index order"
+            last_index = body["index"]
+            assert len(body["x"]) == 5 and len(body["surface"]["coefficients"]) == 8
+            assert all(len(row) == 8 for row in body["surface"]["coefficients"])
+        elif not channel.topic.endswith("trajectory"):
             assert body["index"] > last_index, "samples in index order"
             last_index = body["index"]
             assert len(body["y"]) == 4 and len(body["input"]) == 7

@@ -7,8 +7,11 @@ use dataset_gen::Error;
 use dataset_gen::algorithms::AnyAlgorithm;
 use dataset_gen::batch::{self, GenConfig, RunOptions, Shard};
 use dataset_gen::front;
+use dataset_gen::jobs::parts::{merge_job, run_and_merge};
 use dataset_gen::library;
 use dataset_gen::rng::rng_from_seed;
+use dataset_gen::rope_shovel::dataset::{ShovelGenConfig, is_shovel_dir, summarise_shovel};
+use dataset_gen::rope_shovel::sample::read_shovel_dataset;
 use dataset_gen::sequence::{self, SequenceOptimiser, SequenceSettings};
 use dataset_gen::suite::test_problem;
 use dataset_gen::testfns::TestFn;
@@ -239,6 +242,8 @@ enum Command {
     ShovelReport(dataset_gen::rope_shovel::commands::ReportArgs),
     /// Calibrate the shovel's K0 on the typical pile (spec §2a).
     ShovelCalibrate(dataset_gen::rope_shovel::commands::CalibrateArgs),
+    /// A dataset of rope-shovel digs over seeded piles (sharded, resumable; `merge` joins shards).
+    ShovelGenerate(dataset_gen::rope_shovel::commands::GenerateArgs),
     /// Single-dig optimisations per second at the source's settings.
     Throughput {
         /// pso, gwo, gwo-random, nsga2, or `all`.
@@ -289,6 +294,16 @@ fn write_plan(
     }))
 }
 
+/// Says how to finish a run that left parts to another run on `out`.
+fn left_to_others(samples: u64, out: &Path) {
+    if samples > 0 {
+        eprintln!(
+            "{samples} samples were being computed by another run on {}; the same command, run again once it ends, merges them",
+            out.display()
+        );
+    }
+}
+
 fn print(v: &impl serde::Serialize) -> Result<(), Error> {
     println!("{}", serde_json::to_string_pretty(v)?);
     Ok(())
@@ -335,23 +350,27 @@ fn main_inner() -> Result<(), Error> {
                 progress: !no_progress,
                 max_parts: None,
             };
-            let mut summary = batch::run(&cfg, &out, &opts)?;
-            if summary.left_to_others > 0 {
-                eprintln!(
-                    "{} samples were being computed by another run on {}; the same command, run again once it ends, merges them",
-                    summary.left_to_others,
-                    out.display()
-                );
-            } else if shard_spec.is_none() {
-                let merged = batch::merge(std::slice::from_ref(&out), &out.join("dataset.mcap"))?;
-                summary.output = merged.output;
-                // Report the distribution over the whole dataset, resumed parts included.
-                summary.per_type = merged.per_type;
-            }
+            let summary = run_and_merge(&cfg, &out, &opts, shard_spec.is_none())?;
+            left_to_others(summary.left_to_others, &out);
             print(&summary)
         }
-        Command::Merge { out, dirs } => print(&batch::merge(&dirs, &out)?),
+        Command::Merge { out, dirs } => match dirs.first() {
+            Some(d) if is_shovel_dir(d) => print(&merge_job::<ShovelGenConfig>(&dirs, &out)?),
+            _ => print(&batch::merge(&dirs, &out)?),
+        },
         Command::Inspect { file } => {
+            // A shovel file says so in its metadata; anything else is read as the excavator's.
+            match read_shovel_dataset(&file) {
+                Ok(d) => {
+                    return print(&serde_json::json!({
+                        "file": file, "samples": d.samples.len(),
+                        "metadata_keys": d.metadata.keys().collect::<Vec<_>>(),
+                        "per_type": summarise_shovel(&d.samples),
+                    }));
+                }
+                Err(Error::BadDataset { .. }) => {}
+                Err(e) => return Err(e),
+            }
             let d = dataset_gen::dataset::read_dataset(&file)?;
             print(&serde_json::json!({
                 "file": file, "samples": d.samples.len(), "trajectory_messages": d.trajectory_messages,
@@ -539,6 +558,12 @@ fn main_inner() -> Result<(), Error> {
         Command::ShovelPlan(a) => dataset_gen::rope_shovel::commands::shovel_plan(&a),
         Command::ShovelReport(a) => dataset_gen::rope_shovel::commands::shovel_report(&a),
         Command::ShovelCalibrate(a) => dataset_gen::rope_shovel::commands::shovel_calibrate(&a),
+        Command::ShovelGenerate(a) => {
+            let (cfg, opts, merge) = dataset_gen::rope_shovel::commands::generate_config(&a)?;
+            let summary = run_and_merge(&cfg, &a.out, &opts, merge)?;
+            left_to_others(summary.left_to_others, &a.out);
+            print(&summary)
+        }
         Command::Throughput {
             algorithm,
             queries,

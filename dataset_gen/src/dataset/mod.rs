@@ -17,6 +17,7 @@
 //! at i · SLOT_NS + t, so the same samples always give the same bytes
 //! (except the `wall_time_s` field, the one measured figure).
 
+pub mod file;
 pub mod reader;
 pub mod schema;
 pub mod writer;

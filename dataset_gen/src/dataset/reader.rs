@@ -1,8 +1,9 @@
 //! Reads dataset files back (for `train`, `eval`, merge and resume), with
 //! clear errors for truncated or corrupt files.
 
+use super::file::read_messages;
 use super::schema::{DigSample, TrajectorySample};
-use super::{METADATA_NAME, topic, trajectory_topic};
+use super::{topic, trajectory_topic};
 use crate::error::Error;
 use infer::DigType;
 use std::collections::BTreeMap;
@@ -43,29 +44,6 @@ pub struct RawMessage {
     pub data: Vec<u8>,
 }
 
-fn corrupt(path: &Path, e: impl std::fmt::Display) -> Error {
-    Error::CorruptMcap {
-        path: path.to_path_buf(),
-        detail: e.to_string(),
-    }
-}
-
-/// Reads the whole file and checks both magics and the footer.
-fn load(path: &Path) -> Result<Vec<u8>, Error> {
-    let buf = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    const MAGIC: &[u8] = b"\x89MCAP0\r\n";
-    if buf.len() < MAGIC.len() || &buf[..MAGIC.len()] != MAGIC {
-        return Err(corrupt(path, "missing MCAP magic at the start"));
-    }
-    if buf.len() < 2 * MAGIC.len() || &buf[buf.len() - MAGIC.len()..] != MAGIC {
-        return Err(Error::TruncatedMcap {
-            path: path.to_path_buf(),
-        });
-    }
-    mcap::read::footer(&buf).map_err(|e| corrupt(path, e))?;
-    Ok(buf)
-}
-
 fn topic_kind(topic_name: &str) -> Option<(DigType, bool)> {
     DigType::ALL.into_iter().find_map(|k| {
         if topic_name == topic(k) {
@@ -80,35 +58,18 @@ fn topic_kind(topic_name: &str) -> Option<(DigType, bool)> {
 
 /// The metadata record and every message of a file, in file order.
 pub fn read_raw(path: &Path) -> Result<(BTreeMap<String, String>, Vec<RawMessage>), Error> {
-    let buf = load(path)?;
-    let mut metadata = None;
-    for rec in mcap::read::LinearReader::new(&buf).map_err(|e| corrupt(path, e))? {
-        if let mcap::records::Record::Metadata(m) = rec.map_err(|e| corrupt(path, e))?
-            && m.name == METADATA_NAME
-        {
-            metadata = Some(m.metadata);
-        }
-    }
-    let metadata = metadata.ok_or_else(|| Error::BadDataset {
-        path: path.to_path_buf(),
-        detail: format!("no `{METADATA_NAME}` metadata record: not a dataset_gen file"),
-    })?;
-    let mut out = Vec::new();
-    // Chunk CRCs are written by our writer; checking them catches flipped bytes anywhere in the data.
-    let stream =
-        mcap::MessageStream::new_with_options(&buf, mcap::read::Options::ValidateChunkCrcs.into())
-            .map_err(|e| corrupt(path, e))?;
-    for m in stream {
-        let m = m.map_err(|e| corrupt(path, e))?;
-        let (kind, trajectory) = topic_kind(&m.channel.topic).ok_or_else(|| Error::BadDataset {
+    let (metadata, messages) = read_messages(path)?;
+    let mut out = Vec::with_capacity(messages.len());
+    for m in messages {
+        let (kind, trajectory) = topic_kind(&m.topic).ok_or_else(|| Error::BadDataset {
             path: path.to_path_buf(),
-            detail: format!("unexpected topic `{}`", m.channel.topic),
+            detail: format!("unexpected topic `{}`", m.topic),
         })?;
         out.push(RawMessage {
             kind,
             trajectory,
             log_time: m.log_time,
-            data: m.data.into_owned(),
+            data: m.data,
         });
     }
     Ok((metadata, out))

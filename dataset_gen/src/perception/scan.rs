@@ -118,6 +118,13 @@ fn first_hit(o: [f64; 3], d: [f64; 3], t_max: f64, top: f64, h: impl Fn(f64, f64
     t1
 }
 
+impl ScanConfig {
+    /// Checks every range and setting; names the first that is unusable.
+    pub fn check(&self) -> Result<(), PerceptionError> {
+        check(self)
+    }
+}
+
 fn check(cfg: &ScanConfig) -> Result<(), PerceptionError> {
     let ranges = [
         ("height_range", cfg.height_range),

@@ -1,7 +1,9 @@
 //! The `dataset_gen` subcommands of the shovel: `shovel-plan` (one dig),
-//! `shovel-report` (the planning report) and `shovel-calibrate` (K0).
+//! `shovel-report` (the planning report), `shovel-calibrate` (K0) and
+//! `shovel-generate` (a dataset).
 
 use super::calibrate::{SOURCE_TYPICAL_F1, calibrate};
+use super::dataset::{ShovelGenConfig, SurfaceMode};
 use super::markdown::markdown;
 use super::output::{plan_json, summary, write_plan};
 use super::pile::{analytic_surface, perceived_surface, surface_file};
@@ -9,6 +11,7 @@ use super::problem::{ShovelBounds, plan};
 use super::report::{ReportSettings, cases, planning_report};
 use crate::algorithms::AnyAlgorithm;
 use crate::error::Error;
+use crate::jobs::{RunOptions, Shard};
 use crate::perception::PileShape;
 use crate::rng::rng_from_seed;
 use crate::runner::Budget;
@@ -225,4 +228,67 @@ pub fn shovel_calibrate(a: &CalibrateArgs) -> Result<(), Error> {
     }
     println!("{text}");
     Ok(())
+}
+
+/// `shovel-generate`: a dataset of digs over seeded piles.
+#[derive(clap::Args, Debug)]
+pub struct GenerateArgs {
+    #[arg(long, default_value = "runs/shovel-dataset")]
+    pub out: PathBuf,
+    #[arg(long, default_value_t = 2000)]
+    pub samples: u64,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Compute only shard k of n (0-based), e.g. 0/4; `merge` joins them.
+    #[arg(long)]
+    pub shard: Option<String>,
+    #[arg(long, default_value_t = 64)]
+    pub part_size: u64,
+    /// gwo (good-point-set pack), gwo-random, pso, nsga2 or cmaes.
+    #[arg(long, default_value = "gwo")]
+    pub algorithm: String,
+    #[arg(long, default_value_t = 50)]
+    pub population: usize,
+    #[arg(long, default_value_t = 100)]
+    pub iterations: usize,
+    /// The surface planned on: a perceived scan or the true pile.
+    #[arg(long, value_enum, default_value = "perceived")]
+    pub surface: SurfaceMode,
+    /// Rays per scan.
+    #[arg(long, default_value_t = 100_000)]
+    pub rays: usize,
+    /// Pile shapes, taken in turn.
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "typical,concave,convex,convex-concave"
+    )]
+    pub shapes: Vec<PileShape>,
+    /// Shovel parameters JSON (`ShovelParams`; toe and lane_y are drawn per sample).
+    #[arg(long)]
+    pub params: Option<PathBuf>,
+    #[arg(long)]
+    pub no_progress: bool,
+}
+
+/// The dataset's configuration and run options of `a`; whether to merge
+/// when done (unsharded runs).
+pub fn generate_config(a: &GenerateArgs) -> Result<(ShovelGenConfig, RunOptions, bool), Error> {
+    let mut cfg = ShovelGenConfig::new(a.samples, a.seed);
+    cfg.params = read_params(a.params.as_deref())?;
+    cfg.algorithm = AnyAlgorithm::by_name(&a.algorithm, a.population)?;
+    cfg.iterations = a.iterations;
+    cfg.part_size = a.part_size;
+    cfg.surface = a.surface;
+    cfg.scan.rays = a.rays;
+    cfg.shapes = a.shapes.clone();
+    cfg.validate()?;
+    let shard = a.shard.as_deref().map(str::parse::<Shard>).transpose()?;
+    let opts = RunOptions {
+        shard: shard.unwrap_or(Shard::ALL),
+        progress: !a.no_progress,
+        max_parts: None,
+    };
+    Ok((cfg, opts, shard.is_none()))
 }

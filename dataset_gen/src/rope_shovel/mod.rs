@@ -7,12 +7,14 @@
 
 pub mod calibrate;
 pub mod commands;
+pub mod dataset;
 pub mod markdown;
 pub mod output;
 pub mod pile;
 pub mod plot;
 pub mod problem;
 pub mod report;
+pub mod sample;
 
 pub use problem::{ShovelBounds, ShovelObjective, ShovelPlan, ShovelProblem, plan};
 

@@ -12,7 +12,7 @@ use crate::perception::report::{config_for, distance_to_truth};
 use crate::perception::{PerceptionConfig, PileShape, ScanConfig, TruePile, generate, perceive};
 use infer::rope_shovel::ShovelError;
 use infer::{PileDomain, PileSurface};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// Height (m) and face angle (deg) of every planning pile.
@@ -28,7 +28,7 @@ pub fn planning_pile(shape: PileShape) -> TruePile {
 }
 
 /// Where a surface came from, with its fit figures.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SurfaceSource {
     /// "perceived", "analytic" or the file's path.
     pub kind: String,
@@ -40,10 +40,17 @@ pub struct SurfaceSource {
     pub rms_to_truth_m: Option<f64>,
 }
 
-/// The generator's true surface of `shape` on the perception domain.
+/// The generator's true surface of `shape`'s planning pile on the perception domain.
 pub fn analytic_surface(shape: PileShape) -> Result<(PileSurface, SurfaceSource), Error> {
-    let truth = planning_pile(shape);
-    let pt = PerceptionConfig::default().pass_through;
+    analytic_surface_of(planning_pile(shape), &PerceptionConfig::default())
+}
+
+/// The true surface of `truth` on the region of interest of `perception`.
+pub fn analytic_surface_of(
+    truth: TruePile,
+    perception: &PerceptionConfig,
+) -> Result<(PileSurface, SurfaceSource), Error> {
+    let pt = perception.pass_through;
     let domain = PileDomain::new(pt.x, pt.y).map_err(ShovelError::from)?;
     let surface =
         PileSurface::from_fn(domain, |x, y| truth.height(x, y)).map_err(ShovelError::from)?;
@@ -64,17 +71,40 @@ pub fn perceived_surface(
     shape: PileShape,
     seed: u64,
 ) -> Result<(PileSurface, SurfaceSource), Error> {
-    let truth = planning_pile(shape);
+    let scan = perceived_surface_of(
+        planning_pile(shape),
+        seed,
+        &ScanConfig::default(),
+        &PerceptionConfig::default(),
+    )?;
+    Ok((scan.surface, scan.source))
+}
+
+/// A perceived surface with the scan's sensor pose.
+#[derive(Debug, Clone)]
+pub struct PerceivedScan {
+    pub surface: PileSurface,
+    pub source: SurfaceSource,
+    pub roll_deg: f64,
+    pub pitch_deg: f64,
+}
+
+/// A seeded scan of the pile `truth` (its height and face angle fixed;
+/// the sensor's pose and noise drawn from `seed` within `scan`'s ranges),
+/// perceived by the chain `perception`.
+pub fn perceived_surface_of(
+    truth: TruePile,
+    seed: u64,
+    scan: &ScanConfig,
+    perception: &PerceptionConfig,
+) -> Result<PerceivedScan, Error> {
     let scan_cfg = ScanConfig {
         height_range: [truth.height; 2],
         face_angle_range_deg: [truth.face_angle_deg; 2],
-        ..ScanConfig::default()
+        ..*scan
     };
-    let scan = generate(shape, seed, &scan_cfg)?;
-    let p = perceive(
-        &scan.points,
-        &config_for(&scan, &PerceptionConfig::default()),
-    )?;
+    let scan = generate(truth.shape, seed, &scan_cfg)?;
+    let p = perceive(&scan.points, &config_for(&scan, perception))?;
     let source = SurfaceSource {
         kind: "perceived".into(),
         pile: Some(truth),
@@ -83,7 +113,12 @@ pub fn perceived_surface(
         r_squared: p.surface.r_squared,
         rms_to_truth_m: Some(distance_to_truth(&p.surface, &truth).0),
     };
-    Ok((p.surface, source))
+    Ok(PerceivedScan {
+        surface: p.surface,
+        source,
+        roll_deg: scan.roll_deg,
+        pitch_deg: scan.pitch_deg,
+    })
 }
 
 /// A surface from `perceive`'s JSON (its `surface` field) or a bare one.

@@ -53,6 +53,24 @@ impl Default for ShovelBounds {
     }
 }
 
+impl ShovelBounds {
+    /// Finite lower < upper on every variable, t_d positive.
+    pub fn check(&self) -> Result<(), Error> {
+        for i in 0..5 {
+            let (l, h) = (self.lower[i], self.upper[i]);
+            if !(l.is_finite() && h.is_finite() && l < h) {
+                return Err(Error::BadProblem(format!(
+                    "shovel bound {i} is [{l}, {h}]: needs finite lower < upper"
+                )));
+            }
+        }
+        if self.lower[2] <= 0.0 {
+            return Err(Error::BadProblem("the t_d bound must be positive".into()));
+        }
+        Ok(())
+    }
+}
+
 /// What the optimiser minimises.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -95,17 +113,7 @@ impl ShovelProblem {
         params
             .validate()
             .map_err(|field| Error::BadProblem(format!("shovel parameter `{field}` is invalid")))?;
-        for i in 0..5 {
-            let (l, h) = (bounds.lower[i], bounds.upper[i]);
-            if !(l.is_finite() && h.is_finite() && l < h) {
-                return Err(Error::BadProblem(format!(
-                    "shovel bound {i} is [{l}, {h}]: needs finite lower < upper"
-                )));
-            }
-        }
-        if bounds.lower[2] <= 0.0 {
-            return Err(Error::BadProblem("the t_d bound must be positive".into()));
-        }
+        bounds.check()?;
         Ok(ShovelProblem {
             params: *params,
             surface: *surface,
