@@ -39,7 +39,7 @@ pub struct PipelineSettings {
 impl PipelineSettings {
     /// The built-in defaults: 1,000 digs per type (about 100–150 s on 2
     /// cores), training for 2,000 epochs or 240 s per type (the two at
-    /// once), the full evaluation: about 7 minutes in all.
+    /// once), the full evaluation: about 9 minutes in all.
     pub fn full(out: PathBuf) -> Self {
         PipelineSettings {
             out,

@@ -6,6 +6,7 @@ use crate::error::TrainError;
 use crate::report::{self, DatasetInfo, Report, VariantReport};
 use crate::training::{self, RunPaths, TrainOutcome, make_device};
 use burn::store::{BurnpackStore, ModuleSnapshot};
+pub use dataset_gen::jobs::machine;
 use dataset_gen::jobs::FolderLock;
 use std::path::{Path, PathBuf};
 
@@ -32,21 +33,6 @@ fn write(path: &Path, text: &str) -> Result<(), TrainError> {
     tmp.push(".tmp");
     std::fs::write(&tmp, text).map_err(|e| TrainError::io(path, e))?;
     std::fs::rename(&tmp, path).map_err(|e| TrainError::io(path, e))
-}
-
-/// The machine a run is made on: core count and CPU model (from /proc/cpuinfo).
-pub fn machine() -> String {
-    let cpu = std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|c| {
-            c.lines()
-                .find(|l| l.starts_with("model name"))
-                .and_then(|l| l.split(':').nth(1))
-                .map(|s| s.trim().to_string())
-        })
-        .unwrap_or_else(|| "unknown CPU".into());
-    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
-    format!("{cores} cores, {cpu}")
 }
 
 /// The dataset's generating command, from the configuration recorded in it.

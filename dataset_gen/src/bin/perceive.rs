@@ -124,7 +124,7 @@ fn run() -> Result<(), PerceptionError> {
         ..Default::default()
     };
     if let Some(dir) = &cli.report {
-        let machine = std::env::var("PERCEIVE_MACHINE").unwrap_or_else(|_| "this machine".into());
+        let machine = dataset_gen::jobs::machine();
         let results = write_report(dir, cli.seed, &scan_cfg, &cfg, &machine)?;
         println!(
             "{}",

@@ -26,18 +26,6 @@ pub fn points_json(inst: &Instance) -> serde_json::Value {
     })
 }
 
-/// The CPU model, for the report.
-fn cpu() -> String {
-    std::fs::read_to_string("/proc/cpuinfo")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("model name"))
-                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
-        })
-        .unwrap_or_else(|| "unknown".into())
-}
-
 /// The two instances: a regular 8 × 8 × 2 grid 0.2 m apart (a Hamiltonian
 /// grid path exists) and the source's left half-section (5 m × 3 m, R_h
 /// 20 m, C_h 1 m) at the default increments.
@@ -129,7 +117,7 @@ pub fn run(
         .and_then(|t| serde_json::from_str(&t).ok());
     let report = serde_json::json!({
         "command": format!("cargo run --release -p dataset_gen --bin roadheader -- report --seeds {seeds} --generations {generations} --seed {master}"),
-        "cpu": cpu(),
+        "cpu": crate::jobs::machine(),
         "instances": summaries,
         "ablation": ablations
             .iter()

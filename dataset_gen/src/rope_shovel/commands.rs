@@ -18,9 +18,6 @@ use crate::runner::Budget;
 use infer::rope_shovel::ShovelParams;
 use std::path::{Path, PathBuf};
 
-/// The machine figures are quoted for.
-pub const MACHINE: &str = "AMD EPYC, 2 cores";
-
 /// Shovel parameters: a JSON file (missing fields take defaults) or the defaults.
 fn read_params(path: Option<&Path>) -> Result<ShovelParams, Error> {
     let Some(path) = path else {
@@ -146,7 +143,7 @@ pub fn shovel_report(a: &ReportArgs) -> Result<(), Error> {
     for name in &settings.algorithms {
         AnyAlgorithm::by_name(name, settings.population)?;
     }
-    let report = planning_report(&settings, MACHINE)?;
+    let report = planning_report(&settings, &crate::jobs::machine())?;
     std::fs::create_dir_all(&a.out).map_err(|e| Error::io(&a.out, e))?;
     let command = format!(
         "cargo run --release -p dataset_gen -- --threads {} shovel-report --out {}",

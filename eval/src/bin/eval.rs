@@ -107,7 +107,7 @@ impl EvalArgs {
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Generate a small dataset, train both networks, plan tasks A–D and random
-    /// tasks with them and compare with the optimisers (about 7 min on 2 cores).
+    /// tasks with them and compare with the optimisers (about 9 min on 2 cores).
     Pipeline {
         /// Use the shipped networks in --networks instead of training (under a minute).
         #[arg(long)]
