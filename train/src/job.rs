@@ -6,8 +6,8 @@ use crate::error::TrainError;
 use crate::report::{self, DatasetInfo, Report, VariantReport};
 use crate::training::{self, RunPaths, TrainOutcome, make_device};
 use burn::store::{BurnpackStore, ModuleSnapshot};
-pub use dataset_gen::jobs::machine;
 use dataset_gen::jobs::FolderLock;
+pub use dataset_gen::jobs::machine;
 use std::path::{Path, PathBuf};
 
 /// Where a job reads and writes.
