@@ -1,6 +1,9 @@
 //! Datasets: determinism across thread counts, shard + merge, resume, and
 //! clear errors for damaged files. Budgets are tiny so this runs in seconds.
 
+mod common;
+
+use common::quiet;
 use dataset_gen::Error;
 use dataset_gen::algorithms::{AnyAlgorithm, Pso};
 use dataset_gen::batch::{self, GenConfig, RunOptions, Shard, part_path};
@@ -22,17 +25,7 @@ fn cfg() -> GenConfig {
 }
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("dataset_gen_test_{}_{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
-
-fn quiet(shard: Shard) -> RunOptions {
-    RunOptions {
-        shard,
-        progress: false,
-        max_parts: None,
-    }
+    common::fresh_dir("dataset_gen_test", name)
 }
 
 fn content(path: &Path) -> Vec<DigSample> {
@@ -45,14 +38,7 @@ fn content(path: &Path) -> Vec<DigSample> {
 }
 
 fn generate(c: &GenConfig, dir: &Path, threads: usize) -> Vec<DigSample> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap();
-    pool.install(|| batch::run(c, dir, &quiet(Shard::ALL)))
-        .unwrap();
-    batch::merge(&[dir.to_path_buf()], &dir.join("dataset.mcap")).unwrap();
-    content(&dir.join("dataset.mcap"))
+    content(&common::run_merged(c, dir, threads))
 }
 
 #[test]

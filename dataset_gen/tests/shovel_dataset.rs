@@ -3,6 +3,9 @@
 //! surface is the one the dig was planned on; typed errors for bad
 //! configurations. Tiny budgets (analytic piles, GWO 10 × 8) keep it fast.
 
+mod common;
+
+use common::quiet;
 use dataset_gen::Error;
 use dataset_gen::algorithms::{AnyAlgorithm, Gwo};
 use dataset_gen::jobs::parts::{merge_job, part_path, run_job};
@@ -26,17 +29,7 @@ fn cfg() -> ShovelGenConfig {
 }
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("shovel_ds_test_{}_{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
-
-fn quiet(shard: Shard) -> RunOptions {
-    RunOptions {
-        shard,
-        progress: false,
-        max_parts: None,
-    }
+    common::fresh_dir("shovel_ds_test", name)
 }
 
 fn content(path: &Path) -> Vec<ShovelSample> {
@@ -49,14 +42,7 @@ fn content(path: &Path) -> Vec<ShovelSample> {
 }
 
 fn generate(c: &ShovelGenConfig, dir: &Path, threads: usize) -> Vec<ShovelSample> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap();
-    pool.install(|| run_job(c, dir, &quiet(Shard::ALL)))
-        .unwrap();
-    merge_job::<ShovelGenConfig>(&[dir.to_path_buf()], &dir.join("dataset.mcap")).unwrap();
-    content(&dir.join("dataset.mcap"))
+    content(&common::run_merged(c, dir, threads))
 }
 
 /// Topic, log time and the message with its timing zeroed, by the `mcap`
