@@ -40,6 +40,24 @@ fn write(path: &Path, text: &str) -> Result<(), Error> {
 }
 
 /// `shovel-plan`: optimise one dig on a pile.
+/// The optimiser of one dig and its budget (the source's GWO 50 × 100 by default).
+#[derive(clap::Args, Debug)]
+pub struct OptimiserArgs {
+    /// gwo (good-point-set pack), gwo-random, pso, nsga2 or cmaes.
+    #[arg(long, default_value = "gwo")]
+    pub algorithm: String,
+    #[arg(long, default_value_t = 50)]
+    pub population: usize,
+    #[arg(long, default_value_t = 100)]
+    pub iterations: usize,
+}
+
+impl OptimiserArgs {
+    pub fn algorithm(&self) -> Result<AnyAlgorithm, Error> {
+        AnyAlgorithm::by_name(&self.algorithm, self.population)
+    }
+}
+
 #[derive(clap::Args, Debug)]
 pub struct PlanArgs {
     /// The pile scanned and perceived (H 0.4 m, 40°; the scan from --seed).
@@ -51,13 +69,8 @@ pub struct PlanArgs {
     /// Plan on the generator's true surface (no scan, no perception).
     #[arg(long, conflicts_with = "surface")]
     pub analytic: bool,
-    /// gwo (good-point-set pack), gwo-random, pso, nsga2 or cmaes.
-    #[arg(long, default_value = "gwo")]
-    pub algorithm: String,
-    #[arg(long, default_value_t = 50)]
-    pub population: usize,
-    #[arg(long, default_value_t = 100)]
-    pub iterations: usize,
+    #[command(flatten)]
+    pub optimiser: OptimiserArgs,
     /// Seed of the scan and of the optimiser.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -74,7 +87,7 @@ pub struct PlanArgs {
 
 pub fn shovel_plan(a: &PlanArgs) -> Result<(), Error> {
     let params = read_params(a.params.as_deref())?;
-    let algorithm = AnyAlgorithm::by_name(&a.algorithm, a.population)?;
+    let algorithm = a.optimiser.algorithm()?;
     let (surface, source) = match (&a.surface, a.analytic) {
         (Some(path), _) => surface_file(path)?,
         (None, true) => analytic_surface(a.pile)?,
@@ -87,7 +100,7 @@ pub fn shovel_plan(a: &PlanArgs) -> Result<(), Error> {
         &surface,
         &bounds,
         &algorithm,
-        Budget::iterations(a.iterations),
+        Budget::iterations(a.optimiser.iterations),
         &mut rng,
     )?;
     if a.json {
@@ -241,13 +254,8 @@ pub struct GenerateArgs {
     pub shard: Option<String>,
     #[arg(long, default_value_t = 64)]
     pub part_size: u64,
-    /// gwo (good-point-set pack), gwo-random, pso, nsga2 or cmaes.
-    #[arg(long, default_value = "gwo")]
-    pub algorithm: String,
-    #[arg(long, default_value_t = 50)]
-    pub population: usize,
-    #[arg(long, default_value_t = 100)]
-    pub iterations: usize,
+    #[command(flatten)]
+    pub optimiser: OptimiserArgs,
     /// The surface planned on: a perceived scan or the true pile.
     #[arg(long, value_enum, default_value = "perceived")]
     pub surface: SurfaceMode,
@@ -274,8 +282,8 @@ pub struct GenerateArgs {
 pub fn generate_config(a: &GenerateArgs) -> Result<(ShovelGenConfig, RunOptions, bool), Error> {
     let mut cfg = ShovelGenConfig::new(a.samples, a.seed);
     cfg.params = read_params(a.params.as_deref())?;
-    cfg.algorithm = AnyAlgorithm::by_name(&a.algorithm, a.population)?;
-    cfg.iterations = a.iterations;
+    cfg.algorithm = a.optimiser.algorithm()?;
+    cfg.iterations = a.optimiser.iterations;
     cfg.part_size = a.part_size;
     cfg.surface = a.surface;
     cfg.scan.rays = a.rays;
