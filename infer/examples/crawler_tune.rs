@@ -15,19 +15,16 @@
 use infer::crawler::Pose2;
 use infer::crawler::fuzzy::{FuzzyConfig, U_UNIVERSE};
 use infer::crawler::plant::{Plant, PlantParams};
-use infer::crawler::track::{Fuzzy, PathRef, Record, TrackParams, summarise, track};
+use infer::crawler::track::{
+    Fuzzy, PathRef, Record, TrackParams, source_path_points, summarise, track,
+};
 use rayon::prelude::*;
 
 /// Worst ratio of a figure to its goal over the §5 runs (∞: a run that
 /// never joined or never arrived).
 fn score(cfg: FuzzyConfig, seeds: u64, verbose: bool) -> [f64; 5] {
-    let n = 849;
-    let pts: Vec<[f64; 2]> = (0..=n).map(|i| [30.0 * i as f64 / n as f64; 2]).collect();
-    let path = PathRef {
-        points: &pts,
-        spacing: 30.0 * 2f64.sqrt() / n as f64,
-        sign: 1.0,
-    };
+    let pts = source_path_points();
+    let path = PathRef::source(&pts);
     let mut rec = vec![Record::default(); 4000];
     let mut worst = [0.0f64; 4];
     for (start, speed) in [([2.0, -2.0], 2.0), ([0.0, 5.0], 1.0)] {
@@ -73,13 +70,8 @@ fn score(cfg: FuzzyConfig, seeds: u64, verbose: bool) -> [f64; 5] {
 }
 
 fn trace(cfg: FuzzyConfig, which: usize) {
-    let n = 849;
-    let pts: Vec<[f64; 2]> = (0..=n).map(|i| [30.0 * i as f64 / n as f64; 2]).collect();
-    let path = PathRef {
-        points: &pts,
-        spacing: 30.0 * 2f64.sqrt() / n as f64,
-        sign: 1.0,
-    };
+    let pts = source_path_points();
+    let path = PathRef::source(&pts);
     let (start, speed) = [([2.0, -2.0], 2.0), ([0.0, 5.0], 1.0)][which];
     let pose = Pose2::new(start[0], start[1], std::f64::consts::FRAC_PI_4);
     let mut plant = Plant::new(pose, PlantParams::default(), 0).unwrap();

@@ -9,7 +9,7 @@ use infer::crawler::fuzzy::{FuzzyConfig, infer as fuzzy_infer};
 use infer::crawler::moves::{Direction, MoveKind, MoveParams, MoveWork};
 use infer::crawler::plant::{Plant, PlantParams};
 use infer::crawler::track::{
-    Controller, Fuzzy, PathRef, Record, Summary, TrackParams, summarise, track,
+    Controller, Fuzzy, PathRef, Record, Summary, TrackParams, source_path_points, summarise, track,
 };
 use infer::crawler::{CrawlerError, Obstacle, Pose2};
 use std::f64::consts::FRAC_PI_4;
@@ -45,17 +45,6 @@ fn fuzzy_inference_is_odd_and_saturates_in_the_open_sets() {
     assert!(fuzzy_infer(0.45, 30.0) > 2000.0);
 }
 
-/// The §5 path (0, 0) → (30, 30) m, points 5 cm apart.
-fn diagonal() -> Vec<[f64; 2]> {
-    let n = 849;
-    (0..=n)
-        .map(|i| {
-            let t = 30.0 * i as f64 / n as f64;
-            [t, t]
-        })
-        .collect()
-}
-
 fn scenario(
     ctrl: &mut dyn Controller,
     start: [f64; 2],
@@ -63,12 +52,8 @@ fn scenario(
     slip: f64,
     seed: u64,
 ) -> Summary {
-    let pts = diagonal();
-    let path = PathRef {
-        points: &pts,
-        spacing: 30.0 * 2f64.sqrt() / 849.0,
-        sign: 1.0,
-    };
+    let pts = source_path_points();
+    let path = PathRef::source(&pts);
     let plant_params = PlantParams {
         slip,
         ..Default::default()
@@ -319,7 +304,7 @@ fn bad_input_gives_typed_errors() {
         .is_err()
     );
     assert!(Obstacle::polygon(&[[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]]).is_err());
-    let pts = diagonal();
+    let pts = source_path_points();
     let path = PathRef {
         points: &pts,
         spacing: 0.05,

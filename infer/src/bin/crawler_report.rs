@@ -10,7 +10,9 @@ use infer::crawler::field::{FieldParams, Method, plan};
 use infer::crawler::fields::{Grid, random_field};
 use infer::crawler::fuzzy::FuzzyConfig;
 use infer::crawler::plant::{Plant, PlantParams};
-use infer::crawler::track::{Controller, Fuzzy, PathRef, Record, TrackParams, summarise, track};
+use infer::crawler::track::{
+    Controller, Fuzzy, PathRef, Record, TrackParams, source_path_points, summarise, track,
+};
 use infer::crawler::{CrawlerError, Pose2};
 use rayon::prelude::*;
 use serde_json::json;
@@ -60,13 +62,8 @@ fn scenario(
     slip: f64,
     runs: u64,
 ) -> Result<Worst, CrawlerError> {
-    let n = 849;
-    let pts: Vec<[f64; 2]> = (0..=n).map(|i| [30.0 * i as f64 / n as f64; 2]).collect();
-    let path = PathRef {
-        points: &pts,
-        spacing: 30.0 * 2f64.sqrt() / n as f64,
-        sign: 1.0,
-    };
+    let pts = source_path_points();
+    let path = PathRef::source(&pts);
     let tp = TrackParams {
         speed,
         join_tolerance,

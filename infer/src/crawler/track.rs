@@ -24,6 +24,27 @@ pub struct PathRef<'a> {
     pub sign: f64,
 }
 
+/// Steps of the source's §5 test path, (0, 0) → (30, 30) m (points 5 cm apart).
+pub const SOURCE_PATH_STEPS: usize = 849;
+
+/// The points of the source's §5 test path, for [`PathRef::source`]; an
+/// array, so a caller needs no heap for it.
+pub fn source_path_points() -> [Point; SOURCE_PATH_STEPS + 1] {
+    core::array::from_fn(|i| [30.0 * i as f64 / SOURCE_PATH_STEPS as f64; 2])
+}
+
+impl<'a> PathRef<'a> {
+    /// The source's §5 test path, driven forward, over
+    /// [`source_path_points`].
+    pub fn source(points: &'a [Point; SOURCE_PATH_STEPS + 1]) -> Self {
+        PathRef {
+            points,
+            spacing: 30.0 * core::f64::consts::SQRT_2 / SOURCE_PATH_STEPS as f64,
+            sign: 1.0,
+        }
+    }
+}
+
 /// The nearest point of a path to a query point.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Projection {
