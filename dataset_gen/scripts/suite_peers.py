@@ -3,7 +3,7 @@
 Runs pyswarms' GlobalBestPSO (its documented options c1 0.5, c2 0.3, w 0.9)
 and mealpy's OriginalGWO on Sphere, Rosenbrock, Rastrigin and Ackley in 10
 and 30 dimensions, on the bounds of `src/testfns.rs`, at population 50 x 100
-iterations, over seeds 1..=11, and writes the median and quartiles of the
+iterations, over seeds 1..=51, and writes the median and quartiles of the
 best value found as JSON (dataset_gen/scripts/suite_peers.json).
 
     python3 -m venv /tmp/peers && /tmp/peers/bin/pip install pyswarms==1.3.0 mealpy==3.0.3 numpy
@@ -21,7 +21,7 @@ logging.disable(logging.CRITICAL)
 import pyswarms as ps  # noqa: E402
 from mealpy import FloatVar, GWO  # noqa: E402
 
-POPULATION, ITERATIONS, SEEDS = 50, 100, range(1, 12)
+POPULATION, ITERATIONS, SEEDS = 50, 100, range(1, 52)
 BOUNDS = {"sphere": 100.0, "rosenbrock": 30.0, "rastrigin": 5.12, "ackley": 32.0}
 
 

@@ -141,7 +141,7 @@ enum Command {
         #[arg(long)]
         suite: bool,
         /// Runs per algorithm and problem in `--suite`.
-        #[arg(long, default_value_t = 11)]
+        #[arg(long, default_value_t = 51)]
         seeds: u64,
         /// A peers' file (`scripts/suite_peers.py`): their medians beside `--suite`'s.
         #[arg(long)]
