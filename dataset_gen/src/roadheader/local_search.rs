@@ -267,6 +267,15 @@ impl LocalSearch {
         self.front.extend(front);
     }
 
+    /// Whether the scans of the shortest and the least turning member
+    /// (target classes 0 and 1) have reached local optima: every move
+    /// from them evaluated and none better.
+    pub fn settled(&self) -> bool {
+        self.cursors.iter().take(2).all(|c| {
+            c.key.is_some() && c.since >= self.pos.len().max(1)
+        })
+    }
+
     fn apply(&mut self, c: &Candidate) {
         self.order = self.path(c);
         for (k, &v) in self.order.iter().enumerate() {

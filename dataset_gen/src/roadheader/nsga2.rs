@@ -323,7 +323,11 @@ impl RoadheaderNsga2 {
         let mut archive: Vec<Tour> = Vec::new();
         let mut local = LocalSearch::new(n, 3);
         for generation in 1..=self.generations {
-            if self.restart_after > 0 && stalled >= self.restart_after {
+            if imp.local_search
+                && self.restart_after > 0
+                && stalled >= self.restart_after
+                && local.settled()
+            {
                 // The first front goes to the archive; the population
                 // starts again from new initial tours (this generation's
                 // N evaluations).
@@ -353,11 +357,16 @@ impl RoadheaderNsga2 {
                     &mut local,
                     rng,
                 );
-                // The child's and the side paths' evaluations are among
-                // `used`; each fills a place.
-                spent = used - usize::from(child.is_some()) - local.side.len();
+                // The child's evaluation is among `used`; it fills a place.
+                spent = used - usize::from(child.is_some());
                 offspring.extend(child);
-                offspring.append(&mut local.side);
+                if !local.side.is_empty() {
+                    // Neighbours that trade one objective for the other go
+                    // to the archive, not the population, which they
+                    // would crowd (measured on the source's half).
+                    archive.append(&mut local.side);
+                    archive = first_front(&archive);
+                }
             }
             while offspring.len() + spent < pop.len() {
                 let a = &pop[crowded_tournament(&ranking, rng)].order;
