@@ -271,9 +271,10 @@ impl LocalSearch {
     /// (target classes 0 and 1) have reached local optima: every move
     /// from them evaluated and none better.
     pub fn settled(&self) -> bool {
-        self.cursors.iter().take(2).all(|c| {
-            c.key.is_some() && c.since >= self.pos.len().max(1)
-        })
+        self.cursors
+            .iter()
+            .take(2)
+            .all(|c| c.key.is_some() && c.since >= self.pos.len().max(1))
     }
 
     fn apply(&mut self, c: &Candidate) {

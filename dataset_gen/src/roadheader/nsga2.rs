@@ -109,7 +109,7 @@ impl Default for RoadheaderNsga2 {
             mutation_prob: 0.6,
             max_segment: 16,
             local_search_share: 0.5,
-            restart_after: 40,
+            restart_after: 10,
             improvements: Improvements::ALL,
         }
     }
