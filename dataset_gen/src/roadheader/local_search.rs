@@ -17,7 +17,9 @@
 //! is not counted). First improvement under a weighted sum of the scaled
 //! objectives (or any move that worsens neither), scanning the path from
 //! a cursor that persists across generations for each target, so a long
-//! path is searched a slice per generation.
+//! path is searched a slice per generation. A candidate not taken that
+//! no member of the front dominates or ties is kept as a side path (the
+//! run archives it), so a scan under one weight loses nothing it saw.
 
 use super::instance::Instance;
 use super::objectives::{Objectives, Tour};

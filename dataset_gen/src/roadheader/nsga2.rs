@@ -29,6 +29,18 @@
 //!    serpentine sweep an operator would cut, its rule-breaking jumps
 //!    mended by the repair (skipped when they cannot be).
 //!
+//! With the local search on, two more things that small instances need
+//! (on 2 × 2 × 3 grids the front was exact in 4 of 8 seeds without them):
+//! the local search's candidates that no member of the first front
+//! dominates go to an archive (Pareto local search; they would crowd the
+//! population, so they stay out of it), and when the first front has not
+//! changed for `restart_after` generations and the local search has
+//! settled on both extremes, the front joins the archive and the
+//! population starts again from new initial tours. The final front is the
+//! non-dominated paths of the archive and the last population. On the
+//! source's half the extremes never settle within 500 generations, so
+//! there the run is the same as without restarts.
+//!
 //! Moves that break the adjacency rule count as constraint violations
 //! (Deb's rules), so with every improvement off this is the plain
 //! permutation NSGA-II with a penalty.
