@@ -136,9 +136,10 @@ pub struct GenerationStats {
     pub feasible: usize,
 }
 
-/// What a run leaves: the final first front (one tour per objective
-/// vector), the per-generation history (index 0 = initial population) and
-/// the number of evaluations.
+/// What a run leaves: the final front (the non-dominated paths of the
+/// archive and the last population, one per objective vector), the
+/// per-generation history (index 0 = initial population; bests include
+/// the archive) and the number of evaluations.
 #[derive(Debug, Clone)]
 pub struct RunRecord {
     pub front: Vec<Tour>,
