@@ -17,7 +17,9 @@
 //! is not counted). First improvement under a weighted sum of the scaled
 //! objectives (or any move that worsens neither), scanning the path from
 //! a cursor that persists across generations for each target, so a long
-//! path is searched a slice per generation.
+//! path is searched a slice per generation. A candidate not taken that
+//! no member of the front dominates or ties is kept as a side path (the
+//! run archives it), so a scan under one weight loses nothing it saw.
 
 use super::instance::Instance;
 use super::objectives::{Objectives, Tour};
@@ -83,6 +85,28 @@ pub struct LocalSearch {
     pos: Vec<usize>,
     candidates: Vec<Candidate>,
     cursors: Vec<Cursor>,
+    /// Objective vectors the candidates are held against: the population's
+    /// first front (or the start path alone), grown by what a step finds.
+    front: Vec<[f64; 2]>,
+    /// Candidates of the last step that no member of `front` dominated or
+    /// tied, as paths (Pareto local search: a scan under one weight still
+    /// sees neighbours that trade one objective for the other, and
+    /// dropping them left points of the exact front unfound).
+    pub side: Vec<Tour>,
+}
+
+/// Whether no vector of `front` dominates or ties `g` (beyond rounding).
+fn joins(front: &[[f64; 2]], g: [f64; 2]) -> bool {
+    const EPS: f64 = 1e-9;
+    !front
+        .iter()
+        .any(|h| h[0] <= g[0] + EPS && h[1] <= g[1] + EPS)
+}
+
+/// Adds `g` to `front`, dropping the vectors it dominates.
+fn insert(front: &mut Vec<[f64; 2]>, g: [f64; 2]) {
+    front.retain(|h| !(g[0] <= h[0] && g[1] <= h[1]));
+    front.push(g);
 }
 
 /// A move is better when its weighted, scaled change is negative, or when
@@ -100,6 +124,8 @@ impl LocalSearch {
             pos: vec![0; n],
             candidates: Vec::new(),
             cursors: vec![Cursor::default(); classes],
+            front: Vec::new(),
+            side: Vec::new(),
         }
     }
 
@@ -227,12 +253,34 @@ impl LocalSearch {
         }
     }
 
-    fn apply(&mut self, c: &Candidate) {
+    /// The path `c` describes.
+    fn path(&self, c: &Candidate) -> Vec<u32> {
         let mut next = Vec::with_capacity(self.order.len());
         for p in c.pieces() {
             next.extend((0..p.len()).map(|t| self.order[p.at(t)]));
         }
-        self.order = next;
+        next
+    }
+
+    /// Sets the objective vectors the next steps' candidates are held
+    /// against (see `side`).
+    pub fn set_front(&mut self, front: impl IntoIterator<Item = [f64; 2]>) {
+        self.front.clear();
+        self.front.extend(front);
+    }
+
+    /// Whether the scans of the shortest and the least turning member
+    /// (target classes 0 and 1) have reached local optima: every move
+    /// from them evaluated and none better.
+    pub fn settled(&self) -> bool {
+        self.cursors
+            .iter()
+            .take(2)
+            .all(|c| c.key.is_some() && c.since >= self.pos.len().max(1))
+    }
+
+    fn apply(&mut self, c: &Candidate) {
+        self.order = self.path(c);
         for (k, &v) in self.order.iter().enumerate() {
             self.pos[v as usize] = k;
         }
@@ -242,7 +290,8 @@ impl LocalSearch {
     /// path) under `weight` on F1 (1 − `weight` on F2, each divided by its
     /// `scale`), spending at most `budget` evaluations. Returns the
     /// improved path, if any, and the evaluations spent (its own final
-    /// evaluation included).
+    /// evaluation included); the candidates that joined the front (each
+    /// one of the evaluations spent) are left in `side`.
     #[allow(clippy::too_many_arguments)]
     pub fn step(
         &mut self,
@@ -255,6 +304,10 @@ impl LocalSearch {
         budget: usize,
         rng: &mut OptRng,
     ) -> (Option<Tour>, usize) {
+        self.side.clear();
+        if self.front.is_empty() {
+            self.front.push(tour.f);
+        }
         let n = tour.order.len();
         let key = tour.f.map(f64::to_bits);
         let mut cur = self.cursors[class];
@@ -287,13 +340,22 @@ impl LocalSearch {
                     continue;
                 };
                 used += 1;
+                let g = [f[0] + d[0], f[1] + d[1]];
                 if better(d, weight, scale) {
                     self.apply(&c);
-                    f = [f[0] + d[0], f[1] + d[1]];
+                    f = g;
+                    if joins(&self.front, g) {
+                        insert(&mut self.front, g);
+                    }
                     improved = true;
                     cur.since = 0;
                     cur.skip = 0;
                     continue 'scan;
+                }
+                if joins(&self.front, g) {
+                    let side = obj.tour(inst, self.path(&c));
+                    insert(&mut self.front, side.f);
+                    self.side.push(side);
                 }
             }
             cur.at = (cur.at + 1) % n;
@@ -355,6 +417,7 @@ pub fn on_front(
     } else {
         1.0 - k as f64 / last as f64
     };
+    local.set_front(front.iter().map(|t| t.f));
     let scale = [0, 1].map(|m| {
         let range = front[last].f[m] - front[0].f[m];
         range.abs().max(1e-3 * front[k].f[m].abs()).max(1e-9)
