@@ -99,8 +99,7 @@ fn slip_moves_the_tracked_position_and_the_seed_fixes_it() {
     let b = ideal.relocate(1, 0.0, -0.3).unwrap();
     assert_eq!(a, s.relocate(1, 0.0, -0.3).unwrap());
     assert_ne!(a.tracked_to, b.tracked_to);
-    assert_eq!(b.lateral_offset, 0.0);
-    assert_eq!(b.heading_error, 0.0);
+    assert!(b.lateral_offset.abs() < 1e-12 && b.heading_error.abs() < 1e-12);
     assert!(a.lateral_offset != 0.0);
     // Another dig index draws other slip noise.
     assert_ne!(a, s.relocate(2, 0.0, -0.3).unwrap());

@@ -65,14 +65,16 @@ impl StepWork {
     }
 
     /// Keeps in `why` the more telling of two reasons a dig failed: a
-    /// repair that failed, then too little material, a predictor error,
-    /// a move that could not be made, an unreachable pose.
+    /// move back that could not be made or was refused (moves are tried
+    /// only once no dig from where the machine stands is feasible, so it
+    /// is why the plan cannot go on), a repair that failed, then too
+    /// little material, a predictor error, an unreachable pose.
     pub fn tell(&mut self, e: PlanError) {
         let rank = |e: &PlanError| match e {
-            PlanError::Dig { .. } => 5,
-            PlanError::TooLittleMaterial { .. } => 4,
-            PlanError::Predictor { .. } => 3,
-            PlanError::Move { .. } | PlanError::MoveOffLine { .. } => 2,
+            PlanError::Move { .. } | PlanError::MoveOffLine { .. } => 5,
+            PlanError::Dig { .. } => 4,
+            PlanError::TooLittleMaterial { .. } => 3,
+            PlanError::Predictor { .. } => 2,
             _ => 1,
         };
         if self.why.as_ref().is_none_or(|w| rank(&e) > rank(w)) {
