@@ -50,7 +50,9 @@ struct Args {
     settings: Option<PathBuf>,
     /// Replay this plan file (JSON, as written here) under the exact model
     /// instead of planning: every dig in order must be feasible, within the
-    /// design guard, and give the recorded figures and surfaces. Exit code
+    /// design guard, and give the recorded figures and surfaces; the
+    /// machine must stand still between digs unless a dig records a move,
+    /// which must replay to the position the dig stands at. Exit code
     /// 0 if it does, 1 if it does not, 2 for unreadable input.
     #[arg(long, conflicts_with_all = ["task", "task_file", "length", "refine", "templates", "move_controller", "move_slip"])]
     verify: Option<PathBuf>,
