@@ -431,7 +431,7 @@ fn to_plan(
             index: records.len(),
             kind: dig.kind,
             base_x: 0.0,
-            moved_from: None,
+            moved: None,
             start: dig.start,
             end: dig.end,
             query: *query,

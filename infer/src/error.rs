@@ -35,6 +35,8 @@ pub enum Error {
     BadNetwork(&'static str),
     #[error("buffer of {got} samples is too small, {needed} needed")]
     BufferTooSmall { got: usize, needed: usize },
+    #[error("the planner's move settings (moves): {0}")]
+    BadMove(crate::crawler::CrawlerError),
 }
 
 /// A short copy of a rejected name, kept without allocating.

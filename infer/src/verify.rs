@@ -8,10 +8,11 @@
 // Errors carry the violated constraint by value: no heap in `no_std`, so no Box.
 #![allow(clippy::result_large_err)]
 
+use crate::crawler::CrawlerError;
 use crate::error::Error;
 use crate::limits::{Breach, between_samples};
 use crate::plan::Plan;
-use crate::planner::Planner;
+use crate::planner::{Move, Planner};
 use crate::repair::{Violation, assess};
 use crate::terrain::CarveBuffer;
 use crate::trench::{DesignProfile, ProfileMetrics};
@@ -52,11 +53,77 @@ pub enum VerifyError {
         dig = dig + 1
     )]
     Surface { dig: usize, x: f64, mm: f64 },
+    #[error(
+        "dig {dig}: the machine stands at x = {to} m but stood at {from} m before it, with no move recorded",
+        dig = dig + 1
+    )]
+    Teleport { dig: usize, from: f64, to: f64 },
+    #[error("dig {dig}: its move: {why}", dig = dig + 1)]
+    Move { dig: usize, why: MoveMismatch },
     #[error("the recorded profile metrics {recorded:?} are not the replay's {replayed:?}")]
     Metrics {
         recorded: ProfileMetrics,
         replayed: ProfileMetrics,
     },
+}
+
+/// What is wrong with a recorded move.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum MoveMismatch {
+    #[error("it starts at x = {recorded} m, not where the machine stood ({stood} m)")]
+    From { recorded: f64, stood: f64 },
+    #[error("the dig stands at x = {base_x} m, not where the move ended ({tracked} m)")]
+    Base { base_x: f64, tracked: f64 },
+    #[error("it cannot be replayed: {0}")]
+    Crawler(CrawlerError),
+    #[error("recorded {what} {recorded:e} but the replayed move gives {replayed:e}")]
+    Figure {
+        what: &'static str,
+        recorded: f64,
+        replayed: f64,
+    },
+    #[error("it ends too far off the trench's line for the planner's move settings")]
+    OffLine,
+}
+
+/// Checks a recorded move against its replay under `planner`'s move
+/// settings, from where the machine stood before it.
+fn check_move(planner: &Planner, m: &Move, stood: f64, base_x: f64) -> Result<(), MoveMismatch> {
+    if m.from != stood {
+        return Err(MoveMismatch::From {
+            recorded: m.from,
+            stood,
+        });
+    }
+    if base_x != m.tracked_to {
+        return Err(MoveMismatch::Base {
+            base_x,
+            tracked: m.tracked_to,
+        });
+    }
+    let s = &planner.settings().moves;
+    let r = s.replay(m).map_err(MoveMismatch::Crawler)?;
+    let figures = [
+        ("tracked_to", m.tracked_to, r.tracked_to),
+        ("lateral_offset", m.lateral_offset, r.lateral_offset),
+        ("heading_error", m.heading_error, r.heading_error),
+        ("deviation_rms", m.deviation_rms, r.deviation_rms),
+        ("deviation_max", m.deviation_max, r.deviation_max),
+        ("duration", m.duration, r.duration),
+    ];
+    for (what, recorded, replayed) in figures {
+        if !close(recorded, replayed) {
+            return Err(MoveMismatch::Figure {
+                what,
+                recorded,
+                replayed,
+            });
+        }
+    }
+    if !s.on_line(m) {
+        return Err(MoveMismatch::OffLine);
+    }
+    Ok(())
 }
 
 fn close(a: f64, b: f64) -> bool {
@@ -90,7 +157,10 @@ impl Plan {
     /// Replays every dig in order from flat ground with `planner`'s model
     /// and guard: each must be feasible and within the guard on the surface
     /// the digs before it left, with the figures, surface and final metrics
-    /// the plan records. Returns the final metrics.
+    /// the plan records. The machine starts at base_x = 0 and stands still
+    /// unless a dig records a move, which must replay (with its own
+    /// controller, slip and seed, the rest from `planner`'s move settings)
+    /// to the position the dig stands at. Returns the final metrics.
     pub fn verify(&self, planner: &Planner) -> Result<ProfileMetrics, VerifyError> {
         let cfg = planner.config();
         let (d, e) = (DesignProfile::new(cfg, &self.task), &self.design);
@@ -112,6 +182,7 @@ impl Plan {
             .initial_terrain(&self.design)
             .map_err(|error| VerifyError::Model { dig: 0, error })?;
         let mut carve = CarveBuffer::default();
+        let mut stood = 0.0;
         for (k, record) in self.digs.iter().enumerate() {
             let d = &record.dig;
             if d.index != k {
@@ -120,6 +191,19 @@ impl Plan {
                     recorded: d.index,
                 });
             }
+            match &d.moved {
+                Some(m) => check_move(planner, m, stood, d.base_x)
+                    .map_err(|why| VerifyError::Move { dig: k, why })?,
+                None if d.base_x != stood => {
+                    return Err(VerifyError::Teleport {
+                        dig: k,
+                        from: stood,
+                        to: d.base_x,
+                    });
+                }
+                None => {}
+            }
+            stood = d.base_x;
             let ground = Ground {
                 terrain: &terrain,
                 base_x: d.base_x,

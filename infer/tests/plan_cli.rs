@@ -144,6 +144,60 @@ fn verify_replays_a_plan_file() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Task B moves the machine back: the plan prints and records the tracked
+/// move, `--verify` replays it, and a plan whose recorded tracked position
+/// is not what the move gives does not verify; bad move options are errors.
+#[test]
+fn a_plan_with_a_move_verifies() {
+    let dir = std::env::temp_dir().join(format!("plan-move-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let networks = concat!(env!("CARGO_MANIFEST_DIR"), "/../artifacts");
+    let stem = dir.join("b");
+    let args = ["--task", "B", "--networks", networks, "-o"];
+    let o = plan(
+        &[
+            &args[..],
+            &[stem.to_str().unwrap(), "--move-controller", "pure-pursuit"],
+        ]
+        .concat(),
+    );
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        out.contains("machine moved back") && out.contains("by pure-pursuit"),
+        "{out}"
+    );
+    let file = dir.join("b.json");
+    let o = plan(&["--verify", file.to_str().unwrap()]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+
+    let mut p: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    let planned = p["digs"][1]["move"]["planned_to"].clone();
+    p["digs"][1]["move"]["tracked_to"] = planned.clone();
+    p["digs"][1]["base_x"] = planned;
+    let edited = dir.join("edited.json");
+    std::fs::write(&edited, p.to_string()).unwrap();
+    let o = plan(&["--verify", edited.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("dig 2: its move: recorded tracked_to"),
+        "{err}"
+    );
+
+    let o = plan(&[&args[..], &[stem.to_str().unwrap(), "--move-slip", "0.7"]].concat());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("slip (0 to 0.5)"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// `--templates` plans from the template library; the plan verifies, a
 /// missing file is an error, and a template plan that cannot be made
 /// feasible falls back to the networks, saying so.

@@ -4,10 +4,11 @@
 
 mod common;
 
-use clap::Parser;
+use clap::{Parser, ValueEnum};
 use infer::cli::TaskArgs;
 use infer::network::NetworkFile;
 use infer::plan::{Plan, svg};
+use infer::planner::MoveController;
 use infer::template::{TemplateFile, TemplateSettings};
 use infer::{
     Config, DigPredictor, NetworkPair, PlanError, Planner, PlannerSettings, RefinePredictor,
@@ -49,10 +50,26 @@ struct Args {
     settings: Option<PathBuf>,
     /// Replay this plan file (JSON, as written here) under the exact model
     /// instead of planning: every dig in order must be feasible, within the
-    /// design guard, and give the recorded figures and surfaces. Exit code
+    /// design guard, and give the recorded figures and surfaces; the
+    /// machine must stand still between digs unless a dig records a move,
+    /// which must replay to the position the dig stands at. Exit code
     /// 0 if it does, 1 if it does not, 2 for unreadable input.
-    #[arg(long, conflicts_with_all = ["task", "task_file", "length", "refine", "templates"])]
+    #[arg(long, conflicts_with_all = ["task", "task_file", "length", "refine", "templates", "move_controller", "move_slip"])]
     verify: Option<PathBuf>,
+    /// The tracker of the machine's moves back along the trench (default:
+    /// the settings', fuzzy).
+    #[arg(long, value_enum)]
+    move_controller: Option<Tracker>,
+    /// Mean track slip of those moves, 0 to 0.5 (default: the settings', 0.1).
+    #[arg(long)]
+    move_slip: Option<f64>,
+}
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+enum Tracker {
+    Fuzzy,
+    Pid,
+    PurePursuit,
 }
 
 fn main() -> ExitCode {
@@ -123,7 +140,17 @@ fn run(args: Args) -> Result<(), String> {
     let cfg: Config = common::json_or_default(args.config.as_deref())?;
     cfg.validate().map_err(|e| e.to_string())?;
     let (task, title) = args.task.read()?;
-    let settings: PlannerSettings = common::json_or_default(args.settings.as_deref())?;
+    let mut settings: PlannerSettings = common::json_or_default(args.settings.as_deref())?;
+    if let Some(t) = args.move_controller {
+        settings.moves.controller = match t {
+            Tracker::Fuzzy => MoveController::Fuzzy,
+            Tracker::Pid => MoveController::Pid,
+            Tracker::PurePursuit => MoveController::PurePursuit,
+        };
+    }
+    if let Some(slip) = args.move_slip {
+        settings.moves.plant.slip = slip;
+    }
     let planner = Planner::new(&cfg, &settings).map_err(|e| e.to_string())?;
     planner.digs_for(&task).map_err(|e| e.to_string())?;
     let from_templates = match &args.templates {
@@ -190,8 +217,17 @@ fn run(args: Args) -> Result<(), String> {
             d.report.energy_wh(),
             d.report.dig_angle.to_degrees(),
             d.report.objective,
-            d.moved_from
-                .map(|b| format!("  (machine moved {:.3} m back)", b - d.base_x))
+            d.moved
+                .map(|m| format!(
+                    "  (machine moved back {:.3} m by {}, planned {:.3} m; off line {:.1} mm, {:.2}°; deviation RMS {:.1} mm, max {:.1} mm)",
+                    m.from - m.tracked_to,
+                    m.controller.name(),
+                    m.from - m.planned_to,
+                    m.lateral_offset * 1e3,
+                    m.heading_error.to_degrees(),
+                    m.deviation_rms * 1e3,
+                    m.deviation_max * 1e3
+                ))
                 .unwrap_or_default()
         );
     }

@@ -275,6 +275,29 @@ pub fn track(
     t0: f64,
     records: &mut [Record],
 ) -> Result<usize, CrawlerError> {
+    let mut n = 0;
+    track_each(plant, path, ctrl, p, t0, |r| {
+        let slot = records.get_mut(n).ok_or(CrawlerError::BufferTooSmall {
+            got: n,
+            needed: n + 1,
+        })?;
+        *slot = r;
+        n += 1;
+        Ok(())
+    })
+}
+
+/// [`track`] handing each [`Record`] to `each` instead of keeping it, for
+/// a caller that wants only running figures (the trench planner's moves);
+/// returns how many records there were.
+pub fn track_each(
+    plant: &mut Plant,
+    path: &PathRef<'_>,
+    ctrl: &mut dyn Controller,
+    p: &TrackParams,
+    t0: f64,
+    mut each: impl FnMut(Record) -> Result<(), CrawlerError>,
+) -> Result<usize, CrawlerError> {
     p.validate()?;
     plant.pose.validate("machine pose")?;
     if path.points.len() < 2 {
@@ -316,20 +339,26 @@ pub fn track(
             target_left: cross(dir, rel),
         };
         let heading_error = wrap_angle(travel - angle_of(a.tangent));
-        if n == records.len() {
-            return Err(CrawlerError::BufferTooSmall {
-                got: records.len(),
-                needed: n + 1,
-            });
-        }
         if a.s >= length {
-            records[n] = record(t0 + step as f64 * p.dt, plant, &a, heading_error, 0.0);
+            each(record(
+                t0 + step as f64 * p.dt,
+                plant,
+                &a,
+                heading_error,
+                0.0,
+            ))?;
             return Ok(n + 1);
         }
         let diff = ctrl
             .command(&obs)
             .clamp(-p.max_difference, p.max_difference);
-        records[n] = record(t0 + step as f64 * p.dt, plant, &a, heading_error, diff);
+        each(record(
+            t0 + step as f64 * p.dt,
+            plant,
+            &a,
+            heading_error,
+            diff,
+        ))?;
         n += 1;
         let vc = path.sign * v;
         plant.step(vc - 0.5 * diff, vc + 0.5 * diff, p.dt);

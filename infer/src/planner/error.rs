@@ -48,6 +48,23 @@ pub enum PlanError {
     EvaluationBound { dig: usize, bound: usize },
     #[error("no template plan to carry over (an empty template library)")]
     NoTemplate,
+    #[error("dig {dig}: the move back to x = {to:.3} m could not be made: {error}", dig = dig + 1)]
+    Move {
+        dig: usize,
+        to: f64,
+        error: crate::crawler::CrawlerError,
+    },
+    #[error(
+        "dig {dig}: the tracked move back ended {lateral_mm:.1} mm off the trench's line with a heading error of {heading_deg:.2}° (at most {max_lateral_mm:.1} mm and {max_heading_deg:.2}°: the 2-D trench model cannot plan from further off)",
+        dig = dig + 1
+    )]
+    MoveOffLine {
+        dig: usize,
+        lateral_mm: f64,
+        heading_deg: f64,
+        max_lateral_mm: f64,
+        max_heading_deg: f64,
+    },
     #[error(
         "dig {dig} ({kind}, tip from ({:.3}, {:.3}) m to ({:.3}, {:.3}) m): no refit of the nearest templates is feasible within {evaluations} evaluations: {worst}",
         start.x, start.y, end.x, end.y, dig = dig + 1
@@ -72,6 +89,8 @@ impl PlanError {
             | PlanError::TooLittleMaterial { dig, .. }
             | PlanError::Pose { dig, .. }
             | PlanError::EvaluationBound { dig, .. }
+            | PlanError::Move { dig, .. }
+            | PlanError::MoveOffLine { dig, .. }
             | PlanError::Template { dig, .. } => Some(*dig),
         }
     }

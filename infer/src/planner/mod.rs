@@ -24,7 +24,9 @@
 //! ([`PlanState::stopped`]) and the rest counted as under-dug. The task
 //! ends when the material left would not fill the bucket to V_min. When a
 //! start is nearer to the machine than its type's query range allows, the
-//! machine moves back first (recorded on the dig).
+//! machine moves back first: the move is planned and tracked on the
+//! slipping crawler ([`MoveSettings`]), the dig is planned from where the
+//! machine stopped, and both are recorded on the dig ([`Move`]).
 //!
 //! The core API ([`Planner::start`], [`Planner::next_dig`]) uses no heap; the
 //! per-dig step allocates nothing, and [`PlannerSettings::max_evaluations`]
@@ -38,12 +40,14 @@ mod commit;
 mod error;
 mod fit;
 mod polish;
+mod relocate;
 mod repair;
 mod search;
 mod settings;
 mod step;
 
 pub use error::PlanError;
+pub use relocate::{MAX_MOVE_POINTS, Move, MoveController, MoveSettings};
 pub use settings::PlannerSettings;
 
 use crate::config::Config;
@@ -77,8 +81,10 @@ pub struct PlannedDig {
     pub kind: DigType,
     /// Boom-foot x in the terrain frame for this dig \[m\].
     pub base_x: f64,
-    /// The machine moved back before this dig, from this base_x.
-    pub moved_from: Option<f64>,
+    /// The move of the machine before this dig, planned and tracked
+    /// (`base_x` is where it ended); left out of the file when there was none.
+    #[serde(rename = "move", default, skip_serializing_if = "Option::is_none")]
+    pub moved: Option<Move>,
     /// Start and end tooth-tip poses in the machine frame.
     pub start: Pose,
     pub end: Pose,
@@ -207,6 +213,7 @@ impl Planner {
                 field: "max_evaluations (at least 2, and not with rollouts)",
             });
         }
+        settings.moves.validate().map_err(Error::BadMove)?;
         // A plan is run by a controller in continuous time: its digs must
         // hold every limit between the time samples too.
         let cfg = Config {

@@ -5,11 +5,11 @@
 
 use super::step::StepWork;
 use super::{MAX_REPAIRS, MAX_ROLLOUTS};
-use super::{PlanError, PlannedDig, Planner, Scene, Target};
+use super::{Move, PlanError, PlannedDig, Planner, Scene, Target};
 use crate::dig::{DigType, Ground};
 use crate::error::Error;
 use crate::kinematics::{Elbow, Pose};
-use crate::math::deg;
+use crate::math::{deg, to_deg};
 use crate::predictor::DigPredictor;
 use crate::query::DigQuery;
 use crate::repair::{Assessment, Outcome, assess};
@@ -63,9 +63,9 @@ impl Planner {
                 for (kind, frac) in s.shapes {
                     let r = s.ranges.of(kind);
                     let chord = r.chord[0] + (r.chord[1] - r.chord[0]) * frac;
-                    let c = match self.candidate(target, scene, kind, x_s, chord) {
-                        Ok(c) if c.moved_from.is_some() == moving => c,
-                        Ok(_) => continue,
+                    let c = match self.candidate(target, scene, kind, x_s, chord, moving, w) {
+                        Ok(Some(c)) => c,
+                        Ok(None) => continue,
                         Err(e) => {
                             w.tell(e);
                             continue;
@@ -188,6 +188,10 @@ impl Planner {
 
     /// The dig of `kind` starting on the surface at `x_s` (terrain frame)
     /// with the given chord: poses, query and where the machine stands.
+    /// `None` when it needs a move and `moving` is false, or the other
+    /// way round (the search tries digs from where the machine stands
+    /// first).
+    #[allow(clippy::too_many_arguments)]
     fn candidate(
         &self,
         target: &Target,
@@ -195,7 +199,9 @@ impl Planner {
         kind: DigType,
         x_s: f64,
         chord: f64,
-    ) -> Result<Candidate, PlanError> {
+        moving: bool,
+        w: &mut StepWork,
+    ) -> Result<Option<Candidate>, PlanError> {
         let s = &self.settings;
         let d = &target.design;
         let r = s.ranges.of(kind);
@@ -203,13 +209,20 @@ impl Planner {
         let height = |x: f64| scene.terrain.height_at(x).unwrap_or(d.ground);
         let y_s = height(x_s);
         let x_e = x_s - chord;
-        // The machine moves back when the start is too near to it; a start
+        // The machine moves back when the start is too near to it (the dig
+        // is then planned from where the tracked move left it); a start
         // beyond the range is not tried.
         let mut base_x = scene.base_x;
-        let mut moved_from = None;
-        if x_s - base_x < r.start_x[0] {
-            moved_from = Some(base_x);
-            base_x = x_s - s.start_after_move.clamp(r.start_x[0], r.start_x[1]);
+        let needs_move = x_s - base_x < r.start_x[0];
+        if needs_move != moving {
+            return Ok(None);
+        }
+        let mut moved = None;
+        if needs_move {
+            let to = x_s - s.start_after_move.clamp(r.start_x[0], r.start_x[1]);
+            let m = self.relocate(index, base_x, to, &mut w.last_move)?;
+            base_x = m.tracked_to;
+            moved = Some(m);
         }
         if x_s - base_x > r.start_x[1] {
             return Err(PlanError::Pose {
@@ -283,10 +296,10 @@ impl Planner {
             }
         }
         let (end, end_q) = end.map_err(pose_error)?;
-        Ok(Candidate {
+        Ok(Some(Candidate {
             kind,
             base_x,
-            moved_from,
+            moved,
             start,
             end,
             query: DigQuery {
@@ -295,7 +308,44 @@ impl Planner {
                 surface,
                 kind,
             },
-        })
+        }))
+    }
+
+    /// The move before dig `index` from `from` back to `to`, tracked on
+    /// the crawler, refused if it ends off the trench's line. `last`
+    /// keeps the last one: the candidates at one start share their move.
+    fn relocate(
+        &self,
+        index: usize,
+        from: f64,
+        to: f64,
+        last: &mut Option<Move>,
+    ) -> Result<Move, PlanError> {
+        let s = &self.settings.moves;
+        let m = match *last {
+            Some(m) if m.from == from && m.planned_to == to => m,
+            _ => {
+                let m = s
+                    .relocate(index, from, to)
+                    .map_err(|error| PlanError::Move {
+                        dig: index,
+                        to,
+                        error,
+                    })?;
+                *last = Some(m);
+                m
+            }
+        };
+        if !s.on_line(&m) {
+            return Err(PlanError::MoveOffLine {
+                dig: index,
+                lateral_mm: m.lateral_offset * 1e3,
+                heading_deg: to_deg(m.heading_error),
+                max_lateral_mm: s.max_lateral * 1e3,
+                max_heading_deg: to_deg(s.max_heading),
+            });
+        }
+        Ok(m)
     }
 }
 
@@ -304,7 +354,7 @@ impl Planner {
 pub(super) struct Candidate {
     pub kind: DigType,
     pub base_x: f64,
-    pub moved_from: Option<f64>,
+    pub moved: Option<Move>,
     pub start: Pose,
     pub end: Pose,
     pub query: DigQuery,
@@ -331,7 +381,7 @@ impl Candidate {
             index,
             kind: self.kind,
             base_x: self.base_x,
-            moved_from: self.moved_from,
+            moved: self.moved,
             start: self.start,
             end: self.end,
             query: self.query,

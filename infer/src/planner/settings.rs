@@ -1,5 +1,6 @@
 //! What a caller may tune about the trench planner.
 
+use super::MoveSettings;
 use crate::dig::DigType;
 use crate::math::deg;
 use crate::query::QueryRanges;
@@ -56,6 +57,8 @@ pub struct PlannerSettings {
     pub end_zeta: f64,
     /// Where a dig's start is placed in the machine frame after a move \[m\].
     pub start_after_move: f64,
+    /// How such a move is planned and tracked on the slipping crawler.
+    pub moves: MoveSettings,
     /// Score weights of a candidate dig, per V_max of material: cut below
     /// the design (against design material removed) and the dig objective.
     pub weight_over_dig: f64,
@@ -120,6 +123,7 @@ impl Default for PlannerSettings {
             start_zeta: [deg(-85.0), deg(-75.0)],
             end_zeta: deg(160.0),
             start_after_move: 0.95,
+            moves: MoveSettings::default(),
             weight_over_dig: 3.0,
             weight_objective: 0.6,
             repairs: 8,

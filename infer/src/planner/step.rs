@@ -5,7 +5,7 @@
 //! checked against their sum.
 
 use super::search::Found;
-use super::{PlanError, PlannedDig, Planner, Scene, Target};
+use super::{Move, PlanError, PlannedDig, Planner, Scene, Target};
 use crate::predictor::DigPredictor;
 use crate::repair::RepairSettings;
 use crate::retime::RetimeWork;
@@ -44,6 +44,9 @@ pub(super) struct StepWork {
     pub bound_hit: bool,
     /// The most telling reason any candidate failed.
     pub why: Option<PlanError>,
+    /// The last move tracked for a candidate (the candidates at one start
+    /// share it).
+    pub last_move: Option<Move>,
 }
 
 impl StepWork {
@@ -62,10 +65,13 @@ impl StepWork {
     }
 
     /// Keeps in `why` the more telling of two reasons a dig failed: a
-    /// repair that failed, then too little material, a predictor error,
-    /// an unreachable pose.
+    /// move back that could not be made or was refused (moves are tried
+    /// only once no dig from where the machine stands is feasible, so it
+    /// is why the plan cannot go on), a repair that failed, then too
+    /// little material, a predictor error, an unreachable pose.
     pub fn tell(&mut self, e: PlanError) {
         let rank = |e: &PlanError| match e {
+            PlanError::Move { .. } | PlanError::MoveOffLine { .. } => 5,
             PlanError::Dig { .. } => 4,
             PlanError::TooLittleMaterial { .. } => 3,
             PlanError::Predictor { .. } => 2,
@@ -139,6 +145,7 @@ impl Planner {
             spent: Spent::default(),
             bound_hit: false,
             why: None,
+            last_move: None,
         })
     }
 

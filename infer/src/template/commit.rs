@@ -27,7 +27,7 @@ impl TemplateWork {
             index: i,
             kind: dig.kind,
             base_x: 0.0,
-            moved_from: None,
+            moved: None,
             start: dig.start,
             end: dig.end,
             query,
