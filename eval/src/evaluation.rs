@@ -8,6 +8,7 @@ use crate::digs::{DigRow, compare_digs};
 use crate::error::EvalError;
 use crate::networks::Networks;
 use crate::planning::{PlanRun, run_plan};
+use crate::seeds::SeedFigures;
 use crate::summary::{Summary, summarise};
 use crate::tasks::{NamedTask, RandomRanges, task_set};
 use crate::whole::{
@@ -205,6 +206,10 @@ pub struct EvalReport {
     pub digs: Vec<DigRow>,
     pub whole: Vec<WholeTaskRow>,
     pub summary: Summary,
+    /// The learned figures of every training seed's networks (the
+    /// pipeline's; empty for one pair of networks evaluated alone).
+    #[serde(default)]
+    pub training_seeds: Vec<SeedFigures>,
     pub elapsed_s: f64,
     /// The plans, per task (written as separate files).
     #[serde(skip)]
@@ -390,6 +395,7 @@ pub fn evaluate(
         digs,
         whole,
         summary,
+        training_seeds: Vec::new(),
         elapsed_s: clock.elapsed().as_secs_f64(),
         plans,
     })

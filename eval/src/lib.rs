@@ -12,8 +12,9 @@
 //! [`plots`], [`output`]). A task the planner cannot finish is a row of the
 //! report saying where and why, never a panic.
 //!
-//! [`pipeline`] makes a small dataset, trains both networks and evaluates
-//! them; [`benchmarks`] gathers the latency and accuracy figures into
+//! [`pipeline`] makes a small dataset, trains both networks on it once
+//! per training seed and evaluates them, the learned figures over every
+//! seed ([`seeds`]); [`benchmarks`] gathers the latency and accuracy figures into
 //! `artifacts/benchmarks.{json,md}`. Every optimiser run has its own seed
 //! derived from (seed, task name, dig, method), so every number but the
 //! timings is the same for any thread count.
@@ -29,6 +30,7 @@ pub mod pipeline;
 pub mod planning;
 pub mod plots;
 pub mod predictor;
+pub mod seeds;
 pub mod summary;
 pub mod tables;
 pub mod tasks;

@@ -18,6 +18,7 @@ fn bad_input_exits_with_2() {
         &["--threads", "0", "compare"],
         &["pipeline", "--per-type", "0"],
         &["pipeline", "--train-seconds", "-1"],
+        &["pipeline", "--training-seeds", "1,1"],
     ] {
         let out = eval().args(args).output().unwrap();
         assert_eq!(out.status.code(), Some(2), "{args:?}");

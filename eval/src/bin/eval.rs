@@ -106,8 +106,9 @@ impl EvalArgs {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Generate a small dataset, train both networks, plan tasks A–D and random
-    /// tasks with them and compare with the optimisers (about 9 min on 2 cores).
+    /// Generate a small dataset, train both networks per training seed, plan
+    /// tasks A–D and random tasks with them and compare with the optimisers
+    /// (about 18 min on 2 cores).
     Pipeline {
         /// Use the shipped networks in --networks instead of training (under a minute).
         #[arg(long)]
@@ -127,6 +128,10 @@ enum Command {
         /// Training budget per dig type [s]; the two types train at the same time.
         #[arg(long, default_value_t = 240.0)]
         train_seconds: f64,
+        /// Training seeds: a network pair per seed, the first evaluated in
+        /// full, every one for the learned figures (median and spread).
+        #[arg(long, value_delimiter = ',', default_value = "1,2,3")]
+        training_seeds: Vec<u64>,
         #[command(flatten)]
         eval: EvalArgs,
     },
@@ -196,6 +201,7 @@ fn run(cli: Cli) -> Result<(), EvalError> {
             report,
             per_type,
             train_seconds,
+            training_seeds,
             eval,
         } => {
             let mut s = if quick {
@@ -213,8 +219,17 @@ fn run(cli: Cli) -> Result<(), EvalError> {
                     "--train-seconds must be a positive number".into(),
                 ));
             }
+            let mut distinct = training_seeds.clone();
+            distinct.sort_unstable();
+            distinct.dedup();
+            if training_seeds.is_empty() || distinct.len() != training_seeds.len() {
+                return Err(EvalError::BadArgument(
+                    "--training-seeds must list one or more distinct seeds".into(),
+                ));
+            }
             s.per_type = per_type;
             s.train_seconds = train_seconds;
+            s.training_seeds = training_seeds;
             s.seed = eval.seed;
             s.eval = eval.apply(s.eval)?;
             let report_dir = report.unwrap_or_else(|| {
@@ -246,10 +261,11 @@ fn run(cli: Cli) -> Result<(), EvalError> {
                 steps.join(", "),
                 report_dir.display()
             );
-            if !quick {
+            if let (false, Some(&first)) = (quick, s.training_seeds.first()) {
                 println!(
-                    "networks in {0}/networks (plan with them: cargo run --release -p infer --features cli --bin plan -- --task A --networks {0}/networks)",
-                    s.out.display()
+                    "networks in {0}/networks/seed-<t> (plan with them: cargo run --release -p infer --features cli --bin plan -- --task A --networks {1})",
+                    s.out.display(),
+                    pipeline::networks_dir(&s, first).display()
                 );
             }
         }

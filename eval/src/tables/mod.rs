@@ -151,6 +151,21 @@ pub fn goals_markdown(report: &EvalReport) -> String {
     out
 }
 
+/// The learned figures over the training seeds, with what they cover.
+fn seeds_section(report: &EvalReport) -> String {
+    let seeds: Vec<String> = report
+        .training_seeds
+        .iter()
+        .map(|s| s.seed.to_string())
+        .collect();
+    format!(
+        "## Learned figures over {} training seeds\n\nThe goals above are the first seed's networks. Networks trained on the same dataset with seeds {}, each pair planning the same tasks, every planned dig solved again by PSO (plain and held to the design guard); a goal is met when every seed meets it. These figures also move with the CPU (other floating-point reductions train other networks).\n\n{}",
+        seeds.len(),
+        seeds.join(", "),
+        crate::seeds::markdown(&report.training_seeds)
+    )
+}
+
 /// The methods table: each optimiser against the network, dig by dig,
 /// with planning times.
 pub fn methods_markdown(report: &EvalReport) -> String {
@@ -294,6 +309,9 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
         s.refined
     );
     let _ = writeln!(out, "## Goals\n\n{}", goals_markdown(report));
+    if !report.training_seeds.is_empty() {
+        let _ = writeln!(out, "{}", seeds_section(report));
+    }
     let _ = writeln!(
         out,
         "## Per-task averages (like the source's Table 4)\n\nEach dig of the network's plan solved again by PSO 50 × 100 from the same start and end on the same surface; means over the digs where PSO's answer is feasible.\n\n{}",
@@ -526,5 +544,8 @@ pub fn console(report: &EvalReport) -> String {
         methods_markdown(report),
         goals_markdown(report)
     );
+    if !report.training_seeds.is_empty() {
+        let _ = write!(out, "\n{}", crate::seeds::markdown(&report.training_seeds));
+    }
     out
 }
