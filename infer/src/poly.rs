@@ -118,7 +118,12 @@ impl Poly {
     /// [`Self::roots_in`], and the roots of p′ in [a, b] that isolate them.
     pub fn roots_and_critical(&self, a: f64, b: f64) -> [Points; 2] {
         let mut out = Points::EMPTY;
-        if !(a <= b) || self.len < 2 {
+        // Not a ≤ b (NaN included): an empty interval.
+        let ordered = matches!(
+            a.partial_cmp(&b),
+            Some(core::cmp::Ordering::Less | core::cmp::Ordering::Equal)
+        );
+        if !ordered || self.len < 2 {
             return [out, Points::EMPTY];
         }
         if self.len == 2 {

@@ -147,6 +147,8 @@ proptest! {
     /// acceleration bound every one of 20,001 samples, and are reached to
     /// within what the dense sampling can resolve.
     #[test]
+    // `i` picks the joint in the state, the extrema and `seen` alike.
+    #[allow(clippy::needless_range_loop)]
     fn joint_extrema_bound_a_dense_sampling(
         start in prop::array::uniform3(-1.5f64..0.5),
         delta in prop::array::uniform3(-1.5f64..1.5),
