@@ -8,9 +8,14 @@
 //! carries each over to its own design ([`carry_over`]), refits it there
 //! by a short compass search ([`refit_task`]) and keeps the best: a
 //! fraction of a second to a few seconds per task, and the whole-plan data
-//! a learned placement model would be trained on.
+//! a learned placement model would be trained on. A library is built in
+//! shards that share one folder (array tasks on a cluster engine) and
+//! merged into one MCAP file ([`build_shard`], [`merge`]).
 
+use crate::dataset::file::{McapFile, read_messages};
+use crate::dataset::writer::metadata_with;
 use crate::error::Error;
+use crate::jobs::{FolderLock, Shard};
 use crate::rng::derive_seed;
 use crate::sequence::{SequenceSettings, carry_over, optimise_task, plan_value, refit_task};
 use crate::tasks::{MAX_DRAWS, random_task};
@@ -70,57 +75,43 @@ pub struct BuildReport {
     pub failed: Vec<(usize, String)>,
 }
 
-/// Builds the library in `dir`: for each random task i (seed, i), the
-/// sequence-PSO plan (seed derived from (seed, i)) in `task_NNN.json`.
-/// A file already there is kept, so an interrupted build resumes where it
-/// stopped; each file is written whole (temporary file, then rename), so
-/// an interruption never leaves half a plan. A task sequence PSO finds no
-/// feasible plan for is reported and has no file (a resume tries it
-/// again, with the same result). `bar` counts the sequences
-/// evaluated ([`LibrarySettings::evaluations`] in all). Same settings, same
-/// files, whatever the threads.
+/// Builds the library in `dir`: every task, in one process.
 pub fn build(
     planner: &Planner,
     settings: &LibrarySettings,
     dir: &Path,
     bar: Option<&indicatif::ProgressBar>,
 ) -> Result<BuildReport, Error> {
+    build_shard(planner, settings, dir, Shard::ALL, bar)
+}
+
+/// The tasks of shard k of n of the library in `dir`: for each random
+/// task i (seed, i) with i mod n = k, the sequence search's plan (seed
+/// derived from (seed, i)) in `task_NNN.json`, or why it found none in
+/// `task_NNN.failed.json`. Shards of one library share the folder (array
+/// tasks of a cluster job) and never write each other's files. A file
+/// already there is kept, so an interrupted build resumes where it
+/// stopped; each file is written whole (temporary file, then rename), so
+/// an interruption never leaves half a plan. `bar` counts the sequences
+/// evaluated. Same settings, same plans, whatever the threads or shards;
+/// [`merge`] joins them.
+pub fn build_shard(
+    planner: &Planner,
+    settings: &LibrarySettings,
+    dir: &Path,
+    shard: Shard,
+    bar: Option<&indicatif::ProgressBar>,
+) -> Result<BuildReport, Error> {
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-    // The settings are written beside the plans; a resume must use the
-    // same ones, or the library would mix two task sets.
-    let manifest = dir.join(MANIFEST);
-    let text = serde_json::to_string_pretty(settings)?;
-    match std::fs::read_to_string(&manifest) {
-        Ok(old) => {
-            let old: LibrarySettings = serde_json::from_str(&old).map_err(|e| {
-                Error::BadArgument(format!(
-                    "{}: not library settings ({e})",
-                    manifest.display()
-                ))
-            })?;
-            if old.seed != settings.seed
-                || old.ranges != settings.ranges
-                || old.sequence != settings.sequence
-            {
-                return Err(Error::BadSettings(format!(
-                    "{} was built with other settings ({}); use another directory or the same settings",
-                    dir.display(),
-                    serde_json::to_string(&old)?
-                )));
-            }
-        }
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
-        Err(e) => return Err(Error::io(&manifest, e)),
-    }
-    std::fs::write(&manifest, text).map_err(|e| Error::io(&manifest, e))?;
+    write_manifest(settings, dir)?;
+    // Two runs of one shard (a requeued array task whose first run still
+    // lives) would compute the same plans twice.
+    let _lock = FolderLock::acquire(dir, &format!("library-{}-of-{}.lock", shard.k, shard.n))?;
     let mut report = BuildReport::default();
-    for i in 0..settings.tasks {
+    for i in (0..settings.tasks).filter(|&i| shard.owns(i as u64)) {
         let path = entry_path(dir, i);
-        let task = random_task(planner, settings.seed, i, &settings.ranges).ok_or_else(|| {
-            Error::BadSettings(format!(
-                "no random task the planner accepts in {MAX_DRAWS} draws; widen the ranges"
-            ))
-        })?;
+        let failed = failure_path(dir, i);
+        let task = library_task(planner, settings, i)?;
         if path.exists() {
             // A kept file must still be this task's plan, or the resume
             // would build on a corrupt or foreign entry.
@@ -135,21 +126,220 @@ pub fn build(
             if let Some(bar) = bar {
                 bar.inc(settings.sequence.evaluations());
             }
+        } else if failed.exists() {
+            // The same search fails the same way: not run again.
+            report.failed.push((i, read_failure(&failed)?));
+            if let Some(bar) = bar {
+                bar.inc(settings.sequence.evaluations());
+            }
         } else {
             let seed = derive_seed(settings.seed ^ 0x9E37, i as u64);
             match optimise_task(planner, &task, &settings.sequence, seed, bar) {
                 Ok(plan) => {
-                    let tmp = path.with_extension("json.tmp");
-                    std::fs::write(&tmp, plan.to_json()).map_err(|e| Error::io(&tmp, e))?;
-                    std::fs::rename(&tmp, &path).map_err(|e| Error::io(&path, e))?;
+                    write_whole(&path, &plan.to_json())?;
                     report.written += 1;
                 }
-                Err(Error::BadProblem(why)) => report.failed.push((i, why)),
+                Err(Error::BadProblem(why)) => {
+                    let text = serde_json::to_string_pretty(&Failure {
+                        task,
+                        why: why.clone(),
+                    })?;
+                    write_whole(&failed, &text)?;
+                    report.failed.push((i, why));
+                }
                 Err(e) => return Err(e),
             }
         }
     }
     Ok(report)
+}
+
+/// Library task `index` (the planner accepts it), or an error if the
+/// ranges give none.
+fn library_task(
+    planner: &Planner,
+    settings: &LibrarySettings,
+    index: usize,
+) -> Result<TrenchTask, Error> {
+    random_task(planner, settings.seed, index, &settings.ranges).ok_or_else(|| {
+        Error::BadSettings(format!(
+            "no random task the planner accepts in {MAX_DRAWS} draws; widen the ranges"
+        ))
+    })
+}
+
+/// Writes the settings beside the plans, or checks them against the ones
+/// there: a resume, or another shard, must use the same ones, or the
+/// library would mix two task sets.
+fn write_manifest(settings: &LibrarySettings, dir: &Path) -> Result<(), Error> {
+    let manifest = dir.join(MANIFEST);
+    match std::fs::read_to_string(&manifest) {
+        Ok(old) => {
+            let old = parse_manifest(&manifest, &old)?;
+            if old.seed != settings.seed
+                || old.ranges != settings.ranges
+                || old.sequence != settings.sequence
+            {
+                return Err(Error::BadSettings(format!(
+                    "{} was built with other settings ({}); use another directory or the same settings",
+                    dir.display(),
+                    serde_json::to_string(&old)?
+                )));
+            }
+            if old.tasks >= settings.tasks {
+                return Ok(());
+            }
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+        Err(e) => return Err(Error::io(&manifest, e)),
+    }
+    // Shards starting at once write the same text; each renames a whole file.
+    let tmp = dir.join(format!("{MANIFEST}.{}.tmp", std::process::id()));
+    std::fs::write(&tmp, serde_json::to_string_pretty(settings)?)
+        .map_err(|e| Error::io(&tmp, e))?;
+    std::fs::rename(&tmp, &manifest).map_err(|e| Error::io(&manifest, e))
+}
+
+fn parse_manifest(path: &Path, text: &str) -> Result<LibrarySettings, Error> {
+    serde_json::from_str(text)
+        .map_err(|e| Error::BadArgument(format!("{}: not library settings ({e})", path.display())))
+}
+
+/// `text` written to `path` through a temporary file, so a reader never
+/// sees half of it.
+fn write_whole(path: &Path, text: &str) -> Result<(), Error> {
+    let tmp = path.with_extension("json.tmp");
+    std::fs::write(&tmp, text).map_err(|e| Error::io(&tmp, e))?;
+    std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
+}
+
+/// Why the sequence search found no feasible plan for a library task.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct Failure {
+    task: TrenchTask,
+    why: String,
+}
+
+/// The file recording that library task `index` has no plan.
+pub fn failure_path(dir: &Path, index: usize) -> PathBuf {
+    dir.join(format!("task_{:03}.failed.json", index + 1))
+}
+
+fn read_failure(path: &Path) -> Result<String, Error> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let f: Failure = serde_json::from_str(&text).map_err(|e| {
+        Error::BadArgument(format!(
+            "{}: not a failure record ({e}); delete it to build it again",
+            path.display()
+        ))
+    })?;
+    Ok(f.why)
+}
+
+/// What [`merge`] wrote.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MergeReport {
+    pub out: PathBuf,
+    pub plans: usize,
+    /// Tasks without a plan, with why.
+    pub failed: Vec<(usize, String)>,
+}
+
+/// The MCAP topic of library plans.
+pub const PLAN_TOPIC: &str = "/library/plan";
+
+/// Joins a library built in shards into one MCAP file: every task's plan
+/// as a JSON message on [`PLAN_TOPIC`] (log time = task index), the
+/// settings in the `dataset_gen` metadata. Refuses, naming them, while
+/// tasks of the manifest have neither a plan nor a failure record (a
+/// shard still running or lost).
+pub fn merge(dir: &Path, out: &Path) -> Result<MergeReport, Error> {
+    let manifest = dir.join(MANIFEST);
+    let text = std::fs::read_to_string(&manifest).map_err(|e| Error::io(&manifest, e))?;
+    let settings = parse_manifest(&manifest, &text)?;
+    let missing: Vec<usize> = (0..settings.tasks)
+        .filter(|&i| !entry_path(dir, i).exists() && !failure_path(dir, i).exists())
+        .collect();
+    if !missing.is_empty() {
+        let names: Vec<String> = missing
+            .iter()
+            .take(10)
+            .map(|i| format!("task {}", i + 1))
+            .collect();
+        return Err(Error::BadArgument(format!(
+            "{}: {} of {} tasks not built yet ({}{}); run their shards first",
+            dir.display(),
+            missing.len(),
+            settings.tasks,
+            names.join(", "),
+            if missing.len() > 10 { ", …" } else { "" }
+        )));
+    }
+    let mut file = McapFile::create(out)?;
+    let schema = file.add_schema("dataset_gen.LibraryPlan", &plan_schema())?;
+    let channel = file.add_channel(schema, PLAN_TOPIC, &Default::default())?;
+    file.write_metadata(metadata_with(
+        &serde_json::to_string(&settings)?,
+        "library-1",
+    ))?;
+    let mut report = MergeReport {
+        out: out.to_path_buf(),
+        plans: 0,
+        failed: Vec::new(),
+    };
+    for i in 0..settings.tasks {
+        let path = entry_path(dir, i);
+        if path.exists() {
+            // The build checked each kept plan against its task.
+            let plan = read_plan(&path)?;
+            file.write(channel, i as u64, plan.to_json().as_bytes())?;
+            report.plans += 1;
+        } else {
+            report
+                .failed
+                .push((i, read_failure(&failure_path(dir, i))?));
+        }
+    }
+    file.finish()?;
+    Ok(report)
+}
+
+/// The plans read back from a merged library file, in task order.
+pub fn read_merged(path: &Path) -> Result<(LibrarySettings, Vec<Plan>), Error> {
+    let (metadata, messages) = read_messages(path)?;
+    let settings = metadata
+        .get("config")
+        .ok_or_else(|| Error::BadArgument(format!("{}: no library settings", path.display())))
+        .and_then(|c| parse_manifest(path, c))?;
+    let plans = messages
+        .iter()
+        .filter(|m| m.topic == PLAN_TOPIC)
+        .map(|m| {
+            serde_json::from_slice(&m.data).map_err(|e| {
+                Error::BadArgument(format!("{}: a message is not a plan ({e})", path.display()))
+            })
+        })
+        .collect::<Result<Vec<Plan>, _>>()?;
+    Ok((settings, plans))
+}
+
+/// The JSON Schema of a library plan message (the top level; `plan
+/// --verify` and `Plan`'s serde form hold the rest).
+fn plan_schema() -> serde_json::Value {
+    serde_json::json!({
+        "title": "dataset_gen.LibraryPlan",
+        "description": "One library task's whole-trench plan (infer::plan::Plan)",
+        "type": "object",
+        "properties": {
+            "task": { "type": "object", "description": "the trench: length, depth, slopes, far edge (m, rad)" },
+            "design": { "type": "object", "description": "the design profile" },
+            "digs": { "type": "array", "description": "every dig: type, base, start, end, parameters, exact report, surfaces" },
+            "metrics": { "type": "object", "description": "under- and over-dug area of the design" },
+            "stopped": { "description": "why planning stopped early, if it did" },
+            "planning_seconds": { "type": "number" }
+        },
+        "required": ["task", "design", "digs", "metrics"]
+    })
 }
 
 fn read_plan(path: &Path) -> Result<Plan, Error> {
@@ -186,7 +376,10 @@ impl Library {
         for entry in std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))? {
             let path = entry.map_err(|e| Error::io(dir, e))?.path();
             let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
-            if name.starts_with("task_") && name.ends_with(".json") {
+            if name.starts_with("task_")
+                && name.ends_with(".json")
+                && !name.ends_with(".failed.json")
+            {
                 paths.push(path);
             }
         }

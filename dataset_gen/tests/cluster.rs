@@ -1,8 +1,9 @@
 //! The cluster scripts in `cluster/`, run as a cluster would run them: each
 //! array index a separate process on one shared folder (the Slurm entry with
 //! `SLURM_ARRAY_TASK_ID`, the Kubernetes one with `JOB_COMPLETION_INDEX`),
-//! all at once, then the merge. The merged dataset must equal one unsharded
-//! run's, and a rerun of an index (a requeued task) must compute nothing.
+//! all at once, then the merge. The merged dataset (or plan library) must
+//! equal one unsharded run's, and a rerun of an index (a requeued task)
+//! must compute nothing.
 
 use dataset_gen::dataset::{DigSample, read_dataset};
 use std::path::{Path, PathBuf};
@@ -49,31 +50,36 @@ fn content(path: &Path) -> Vec<DigSample> {
     d.samples.iter().map(DigSample::without_timing).collect()
 }
 
+/// Every array index of `job` on `out`: indices 0 and 1 through the Slurm
+/// batch script, 2 as the Kubernetes manifest runs it (`array-task.sh
+/// mode`), all started before any ends; their printed reports.
+fn run_shards(job: fn(&str, &Path) -> Command, mode: &str, out: &Path) -> Vec<serde_json::Value> {
+    let running: Vec<_> = (0..SHARDS)
+        .map(|k| {
+            let mut c = if k < 2 {
+                let mut c = job("slurm/shard.sbatch", out);
+                c.env("SLURM_ARRAY_TASK_ID", k.to_string());
+                c
+            } else {
+                let mut c = job("array-task.sh", out);
+                c.arg(mode).env("JOB_COMPLETION_INDEX", k.to_string());
+                c
+            };
+            c.stdout(std::process::Stdio::piped()).spawn().unwrap()
+        })
+        .collect();
+    running
+        .into_iter()
+        .map(|p| ok(&p.wait_with_output().unwrap()))
+        .collect()
+}
+
 #[test]
 fn array_indices_as_separate_processes_give_the_unsharded_dataset() {
     let shared = tmp("array");
-    // Indices 0 and 1 through the Slurm batch script, 2 as the Kubernetes
-    // manifest runs it: all started before any ends.
-    let mut running = Vec::new();
-    for k in 0..SHARDS {
-        let mut c = if k < 2 {
-            let mut c = task("slurm/shard.sbatch", &shared);
-            c.env("SLURM_ARRAY_TASK_ID", k.to_string());
-            c
-        } else {
-            let mut c = task("array-task.sh", &shared);
-            c.arg("shard").env("JOB_COMPLETION_INDEX", k.to_string());
-            c
-        };
-        running.push(c.stdout(std::process::Stdio::piped()).spawn().unwrap());
-    }
-    let computed: u64 = running
-        .into_iter()
-        .map(|p| {
-            ok(&p.wait_with_output().unwrap())["computed"]
-                .as_u64()
-                .unwrap()
-        })
+    let computed: u64 = run_shards(task, "shard", &shared)
+        .iter()
+        .map(|r| r["computed"].as_u64().unwrap())
         .sum();
     assert_eq!(computed, 10, "every sample computed once over the shards");
 
@@ -149,9 +155,125 @@ fn bad_settings_and_a_merge_before_the_shards_end_exit_with_2() {
     let _ = std::fs::remove_dir_all(out);
 }
 
+/// A library array task: five trenches of the wide ranges, each a plan of
+/// one dig (tiny searches find feasible ones), in the test's time.
+fn library_task(script: &str, out: &Path) -> Command {
+    let mut c = task(script, out);
+    c.env("JOB", "library")
+        .env("TASKS", "5")
+        .env("SEED", "7")
+        .env("WIDE", "1")
+        .env("OPTIMISER", "pso")
+        .env("DIGS", "1")
+        .env("POPULATION", "12")
+        .env("ITERATIONS", "10")
+        .env("RESTARTS", "1")
+        .env("POLISH", "50");
+    c
+}
+
+/// Every plan of a merged library, timings aside.
+fn merged_plans(path: &Path) -> Vec<serde_json::Value> {
+    let (settings, plans) = dataset_gen::library::read_merged(path).unwrap();
+    assert_eq!(settings.tasks, 5);
+    plans
+        .iter()
+        .map(|p| {
+            let mut v = serde_json::to_value(p).unwrap();
+            v["planning_seconds"] = serde_json::Value::Null;
+            v
+        })
+        .collect()
+}
+
 #[test]
-fn the_kubernetes_job_runs_as_many_shards_as_it_says() {
-    let yaml = std::fs::read_to_string(cluster_dir().join("k8s/dataset-shards.yaml")).unwrap();
+fn library_shards_as_separate_processes_give_the_unsharded_library() {
+    let shared = tmp("library");
+    let mut done = 0;
+    for r in run_shards(library_task, "library", &shared) {
+        let report = &r["report"];
+        done +=
+            report["written"].as_u64().unwrap() + report["failed"].as_array().unwrap().len() as u64;
+        assert_eq!(report["kept"].as_u64(), Some(0), "{r}");
+    }
+    assert_eq!(done, 5, "every task built once over the shards");
+    // A requeued index keeps what it built.
+    let again = ok(&library_task("array-task.sh", &shared)
+        .arg("library")
+        .env("ARRAY_INDEX", "1")
+        .output()
+        .unwrap());
+    assert_eq!(again["report"]["written"].as_u64(), Some(0), "{again}");
+    ok(&library_task("slurm/merge.sbatch", &shared)
+        .output()
+        .unwrap());
+
+    let whole = tmp("library_whole");
+    let o = Command::new(env!("CARGO_BIN_EXE_dataset_gen"))
+        .args([
+            "library",
+            "--no-progress",
+            "--tasks",
+            "5",
+            "--seed",
+            "7",
+            "--wide",
+        ])
+        .args([
+            "--optimiser",
+            "pso",
+            "--digs",
+            "1",
+            "--population",
+            "12",
+            "--iterations",
+            "10",
+        ])
+        .args(["--restarts", "1", "--polish", "50", "--out"])
+        .arg(&whole)
+        .output()
+        .unwrap();
+    ok(&o);
+    ok(&Command::new(env!("CARGO_BIN_EXE_dataset_gen"))
+        .args(["library-merge", "--out"])
+        .arg(&whole)
+        .output()
+        .unwrap());
+    let plans = merged_plans(&shared.join("library.mcap"));
+    assert_eq!(plans.len(), 5, "a plan for every task");
+    assert_eq!(plans, merged_plans(&whole.join("library.mcap")));
+    let _ = std::fs::remove_dir_all(shared);
+    let _ = std::fs::remove_dir_all(whole);
+}
+
+#[test]
+fn a_library_merge_before_the_shards_end_exits_with_2() {
+    let out = tmp("library_bad");
+    let mut c = library_task("array-task.sh", &out);
+    ok(&c.arg("library").env("ARRAY_INDEX", "0").output().unwrap());
+    let o = library_task("slurm/merge.sbatch", &out).output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("3 of 5 tasks not built yet (task 2, task 3, task 5)"),
+        "{err}"
+    );
+    assert!(!out.join("library.mcap").exists());
+    let _ = std::fs::remove_dir_all(out);
+}
+
+#[test]
+fn the_kubernetes_jobs_run_as_many_shards_as_they_say() {
+    for (file, mode) in [
+        ("dataset-shards.yaml", "\"shard\""),
+        ("library-shards.yaml", "\"library\""),
+    ] {
+        kubernetes_job(file, mode);
+    }
+}
+
+fn kubernetes_job(file: &str, mode: &str) {
+    let yaml = std::fs::read_to_string(cluster_dir().join("k8s").join(file)).unwrap();
     let field = |key: &str| -> String {
         let line = yaml
             .lines()
@@ -165,5 +287,8 @@ fn the_kubernetes_job_runs_as_many_shards_as_it_says() {
     };
     assert_eq!(field("completions:"), field("- { name: SHARDS, value:"));
     assert!(yaml.contains("completionMode: Indexed"));
-    assert!(yaml.contains("/opt/cluster/array-task.sh"));
+    assert!(
+        yaml.contains("/opt/cluster/array-task.sh") && yaml.contains(mode),
+        "{file}"
+    );
 }

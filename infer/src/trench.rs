@@ -50,6 +50,18 @@ impl Default for RandomRanges {
     }
 }
 
+impl RandomRanges {
+    /// Wider than eval's (L 0.40–0.85 m, D 0.06–0.20 m, slopes 30–75°, far
+    /// edge 0.98–1.10 m): the range a plan library for learning whole
+    /// tasks covers, so eval's tasks lie inside it.
+    pub const WIDE: RandomRanges = RandomRanges {
+        length: [0.40, 0.85],
+        depth: [0.06, 0.20],
+        slope_deg: [30.0, 75.0],
+        far_edge: [0.98, 1.10],
+    };
+}
+
 impl TrenchTask {
     /// A task drawn from `ranges`: L, D, β1, β2 and the far edge in that
     /// order, each by `uniform(lo, hi)` (a caller's generator: `infer`

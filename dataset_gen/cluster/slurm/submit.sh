@@ -6,8 +6,14 @@
 #   SHARDS=8 OUT=/shared/runs/dataset SEED=1 PER_TYPE=1800 \
 #     DATASET_GEN=$PWD/target/release/dataset_gen dataset_gen/cluster/slurm/submit.sh
 #
+# A plan library the same way (JOB=library; TASKS, WIDE=1 and the sequence
+# settings as array-task.sh lists them):
+#
+#   JOB=library SHARDS=16 OUT=/shared/runs/library TASKS=1000 WIDE=1 \
+#     DATASET_GEN=$PWD/target/release/dataset_gen dataset_gen/cluster/slurm/submit.sh
+#
 # A failed or preempted shard can be resubmitted alone (sbatch --array=K …):
-# it resumes from the parts it finished.
+# it resumes from the parts (or plans) it finished.
 set -euo pipefail
 here=dataset_gen/cluster/slurm
 [[ ${SHARDS:-} =~ ^[1-9][0-9]*$ ]] || { echo "error: set SHARDS (a positive whole number)" >&2; exit 2; }

@@ -193,12 +193,26 @@ enum Command {
         /// Seed of the tasks and searches (eval's random tasks use 1).
         #[arg(long, default_value_t = 7)]
         seed: u64,
+        /// Draw from the wider ranges (L 0.40–0.85 m, D 0.06–0.20 m, slopes
+        /// 30–75°, far edge 0.98–1.10 m).
+        #[arg(long)]
+        wide: bool,
+        /// Build only the tasks of shard k of n (0-based, task i in shard
+        /// i mod n), e.g. 0/4, in a folder the shards share; `library-merge` joins them.
+        #[arg(long)]
+        shard: Option<String>,
         #[command(flatten)]
         sequence: SequenceArgs,
         #[arg(long, default_value = "runs/library")]
         out: PathBuf,
         #[arg(long)]
         no_progress: bool,
+    },
+    /// Joins a library built in shards into OUT/library.mcap (every plan a
+    /// JSON message on /library/plan); refuses while tasks are missing.
+    LibraryMerge {
+        #[arg(long, default_value = "runs/library")]
+        out: PathBuf,
     },
     /// A task planned from a library: its nearest library plans carried
     /// over and refitted by a compass search, the best kept (JSON + SVG).
@@ -484,22 +498,38 @@ fn main_inner() -> Result<(), Error> {
         Command::Library {
             tasks,
             seed,
+            wide,
+            shard,
             sequence,
             out,
             no_progress,
         } => {
             let planner = default_planner()?;
+            let shard = shard.as_deref().map(str::parse::<Shard>).transpose()?;
+            let shard = shard.unwrap_or(Shard::ALL);
             let settings = library::LibrarySettings {
                 tasks,
                 seed,
+                ranges: if wide {
+                    infer::trench::RandomRanges::WIDE
+                } else {
+                    Default::default()
+                },
                 sequence: sequence.settings()?,
-                ..Default::default()
             };
-            let bar =
-                dataset_gen::jobs::progress_bar(settings.evaluations(), "sequences", !no_progress);
-            let report = library::build(&planner, &settings, &out, Some(&bar))?;
+            let owned = (0..tasks as u64).filter(|&i| shard.owns(i)).count() as u64;
+            let bar = dataset_gen::jobs::progress_bar(
+                owned * settings.sequence.evaluations(),
+                "sequences",
+                !no_progress,
+            );
+            let report = library::build_shard(&planner, &settings, &out, shard, Some(&bar))?;
             bar.finish_and_clear();
             print(&serde_json::json!({ "out": out, "report": report }))
+        }
+        Command::LibraryMerge { out } => {
+            let report = library::merge(&out, &out.join("library.mcap"))?;
+            print(&serde_json::json!(report))
         }
         Command::RefitTask {
             task,
