@@ -43,10 +43,11 @@ pub struct PipelineSettings {
 }
 
 impl PipelineSettings {
-    /// The built-in defaults: 1,000 digs per type (about 80 s on 2 cores),
+    /// The built-in defaults: 1,000 digs per type (about 70 s on 2 cores),
     /// three training seeds of 2,000 epochs or 240 s per type (the two at
-    /// once, about 3 minutes a seed), the full evaluation (about 4
-    /// minutes) and the other seeds' learned figures: about 18 minutes.
+    /// once, under 3 minutes a seed), the full evaluation (about 4
+    /// minutes) and the other seeds' learned figures (seconds): about 13
+    /// minutes in all.
     pub fn full(out: PathBuf) -> Self {
         PipelineSettings {
             out,
