@@ -8,6 +8,18 @@ fn plan(args: &[&str]) -> std::process::Output {
         .unwrap()
 }
 
+/// `plan --verify file`, which must accept it.
+fn verifies(file: &std::path::Path) -> std::process::Output {
+    let o = plan(&["--verify", file.to_str().unwrap()]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    o
+}
+
 #[test]
 fn bad_tasks_and_missing_networks_are_clear_errors() {
     let dir = std::env::temp_dir().join(format!("plan-cli-{}", std::process::id()));
@@ -116,13 +128,7 @@ fn verify_replays_a_plan_file() {
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let file = dir.join("c.json");
-    let o = plan(&["--verify", file.to_str().unwrap()]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    let o = verifies(&file);
     assert!(String::from_utf8_lossy(&o.stdout).contains("replayed under the exact model"));
 
     // Twice as fast: the joints break their speed or acceleration limits.
@@ -168,13 +174,7 @@ fn a_plan_with_a_move_verifies() {
         "{out}"
     );
     let file = dir.join("b.json");
-    let o = plan(&["--verify", file.to_str().unwrap()]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    verifies(&file);
 
     let mut p: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
