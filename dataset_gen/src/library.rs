@@ -193,11 +193,8 @@ fn write_manifest(settings: &LibrarySettings, dir: &Path) -> Result<(), Error> {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
         Err(e) => return Err(Error::io(&manifest, e)),
     }
-    // Shards starting at once write the same text; each renames a whole file.
-    let tmp = dir.join(format!("{MANIFEST}.{}.tmp", std::process::id()));
-    std::fs::write(&tmp, serde_json::to_string_pretty(settings)?)
-        .map_err(|e| Error::io(&tmp, e))?;
-    std::fs::rename(&tmp, &manifest).map_err(|e| Error::io(&manifest, e))
+    // Shards starting at once write the same text, each a whole file.
+    write_whole(&manifest, &serde_json::to_string_pretty(settings)?)
 }
 
 fn parse_manifest(path: &Path, text: &str) -> Result<LibrarySettings, Error> {
@@ -205,10 +202,12 @@ fn parse_manifest(path: &Path, text: &str) -> Result<LibrarySettings, Error> {
         .map_err(|e| Error::BadArgument(format!("{}: not library settings ({e})", path.display())))
 }
 
-/// `text` written to `path` through a temporary file, so a reader never
-/// sees half of it.
+/// `text` written to `path` through a temporary file of this process, so
+/// a reader never sees half of it and two writers never share one.
 fn write_whole(path: &Path, text: &str) -> Result<(), Error> {
-    let tmp = path.with_extension("json.tmp");
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(format!(".{}.tmp", std::process::id()));
+    let tmp = PathBuf::from(tmp);
     std::fs::write(&tmp, text).map_err(|e| Error::io(&tmp, e))?;
     std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
 }
