@@ -24,6 +24,7 @@ fn bench(c: &mut Criterion) {
                 speed: 2.0,
                 d: 0.3 * x,
                 d0: 0.1 * x,
+                heading: 0.05 * x,
                 curvature: 0.05,
                 target_ahead: 2.0,
                 target_left: 0.0,

@@ -16,33 +16,24 @@ use infer::crawler::Pose2;
 use infer::crawler::fuzzy::{FuzzyConfig, U_UNIVERSE};
 use infer::crawler::plant::{Plant, PlantParams};
 use infer::crawler::track::{
-    Fuzzy, PathRef, Record, TrackParams, source_path_points, summarise, track,
+    Fuzzy, PathRef, Record, SOURCE_SCENARIOS, TrackParams, source_path_points, source_scenario,
+    track,
 };
 use rayon::prelude::*;
 
 /// Worst ratio of a figure to its goal over the §5 runs (∞: a run that
 /// never joined or never arrived).
 fn score(cfg: FuzzyConfig, seeds: u64, verbose: bool) -> [f64; 5] {
-    let pts = source_path_points();
-    let path = PathRef::source(&pts);
     let mut rec = vec![Record::default(); 4000];
     let mut worst = [0.0f64; 4];
-    for (start, speed) in [([2.0, -2.0], 2.0), ([0.0, 5.0], 1.0)] {
+    for (start, speed) in SOURCE_SCENARIOS {
         for slip in [0.0, 0.1, 0.2] {
             for seed in 0..seeds {
-                let pose = Pose2::new(start[0], start[1], std::f64::consts::FRAC_PI_4);
-                let pp = PlantParams {
-                    slip,
-                    ..Default::default()
-                };
-                let mut plant = Plant::new(pose, pp, seed).unwrap();
-                let tp = TrackParams {
-                    speed,
-                    ..Default::default()
-                };
                 let mut c = Fuzzy::new(cfg).unwrap();
-                let k = track(&mut plant, &path, &mut c, &tp, 0.0, &mut rec).unwrap();
-                let s = summarise(&rec[..k], [30.0, 30.0], path.length(), tp.join_tolerance);
+                let tolerance = TrackParams::default().join_tolerance;
+                let scenario = (start, speed);
+                let (s, _) =
+                    source_scenario(&mut c, scenario, slip, seed, tolerance, &mut rec).unwrap();
                 let bad = |x: Option<f64>| x.filter(|_| s.arrived).unwrap_or(f64::INFINITY);
                 let figs = [
                     bad(s.join_distance) / 5.0,

@@ -2,18 +2,20 @@
 //! tracking scenarios (fuzzy vs PID vs pure pursuit on the same runs) and
 //! the improved vs classic potential field on seeded random obstacle
 //! fields whose goal a grid flood fill says is reachable. Writes
-//! OUT/report.json and OUT/report.md. Run it in release.
+//! OUT/report.json, OUT/report.md and OUT/join.svg (deviation over path
+//! length while joining, one line per controller). Run it in release.
 
 use clap::Parser;
+use infer::crawler::CrawlerError;
 use infer::crawler::baselines::{Pid, PurePursuit};
+use infer::crawler::capture::{Capture, CaptureConfig};
 use infer::crawler::field::{FieldParams, Method, plan};
 use infer::crawler::fields::{Grid, random_field};
 use infer::crawler::fuzzy::FuzzyConfig;
-use infer::crawler::plant::{Plant, PlantParams};
+use infer::crawler::plant::PlantParams;
 use infer::crawler::track::{
-    Controller, Fuzzy, PathRef, Record, TrackParams, source_path_points, summarise, track,
+    Controller, Fuzzy, Record, SOURCE_SCENARIOS, TrackParams, source_scenario,
 };
-use infer::crawler::{CrawlerError, Pose2};
 use rayon::prelude::*;
 use serde_json::json;
 use std::fmt::Write as _;
@@ -61,35 +63,30 @@ fn scenario(
     speed: f64,
     slip: f64,
     runs: u64,
-) -> Result<Worst, CrawlerError> {
-    let pts = source_path_points();
-    let path = PathRef::source(&pts);
-    let tp = TrackParams {
-        speed,
-        join_tolerance,
-        ..Default::default()
-    };
+) -> Result<(Worst, Vec<Record>), CrawlerError> {
     let mut w = Worst::default();
+    let mut first = vec![];
     for seed in 0..runs {
         let cfg = FuzzyConfig::default();
         let mut ctrl: Box<dyn Controller> = match name {
             "fuzzy" => Box::new(Fuzzy::new(cfg)?),
             "fuzzy-join" => Box::new(Fuzzy::new(FuzzyConfig::straight_join())?),
+            "fuzzy+capture" => Box::new(Capture::new(CaptureConfig::default(), Fuzzy::new(cfg)?)?),
             "pid" => Box::new(Pid::source(cfg)?),
             _ => Box::new(PurePursuit::standard(PlantParams::default().gauge)?),
         };
-        let pose = Pose2::new(start[0], start[1], std::f64::consts::FRAC_PI_4);
-        let mut plant = Plant::new(
-            pose,
-            PlantParams {
-                slip,
-                ..Default::default()
-            },
-            seed,
-        )?;
         let mut rec = vec![Record::default(); 4000];
-        let k = track(&mut plant, &path, ctrl.as_mut(), &tp, 0.0, &mut rec)?;
-        let s = summarise(&rec[..k], [30.0, 30.0], path.length(), tp.join_tolerance);
+        let (s, k) = source_scenario(
+            ctrl.as_mut(),
+            (start, speed),
+            slip,
+            seed,
+            join_tolerance,
+            &mut rec,
+        )?;
+        if seed == 0 {
+            first = rec[..k].to_vec();
+        }
         w.arrived += s.arrived as u64;
         // A run that never joins or never arrives counts as infinitely bad.
         let bad = |x: Option<f64>| x.filter(|_| s.arrived).unwrap_or(f64::INFINITY);
@@ -102,7 +99,57 @@ fn scenario(
             f64::INFINITY
         });
     }
-    Ok(w)
+    Ok((w, first))
+}
+
+/// The scenario [`join_plot`] draws: the hardest, (2, −2) at 2 m/s, 20 % slip.
+const PLOTTED: ([f64; 2], f64, f64) = ([2.0, -2.0], 2.0, 0.2);
+
+/// Deviation over path length of each controller's first run of
+/// [`PLOTTED`], with the 10 cm band and the 5 m join goal.
+fn join_plot(
+    file: &std::path::Path,
+    runs: &[(&str, Vec<Record>)],
+) -> Result<(), Box<dyn std::error::Error>> {
+    use plotters::prelude::*;
+    let root = SVGBackend::new(file, (900, 420)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            "joining the path: (2, −2) m off at 2 m/s, 20 % slip, seed 0",
+            ("sans-serif", 18),
+        )
+        .margin(10)
+        .x_label_area_size(35)
+        .y_label_area_size(55)
+        .build_cartesian_2d(0.0..12.0, -120.0..300.0)?;
+    chart
+        .configure_mesh()
+        .light_line_style(RGBColor(238, 238, 238))
+        .x_desc("path length from the start's projection (m)")
+        .y_desc("deviation (cm, right +)")
+        .draw()?;
+    let grey = RGBColor(150, 150, 150);
+    for y in [-10.0, 10.0] {
+        chart.draw_series(LineSeries::new([(0.0, y), (12.0, y)], grey))?;
+    }
+    chart.draw_series(LineSeries::new([(5.0, -120.0), (5.0, 300.0)], grey))?;
+    let colours = [RED, GREEN, BLUE, MAGENTA, BLACK];
+    for ((name, rec), colour) in runs.iter().zip(colours) {
+        let s0 = rec.first().map_or(0.0, |r| r.s);
+        let pts = rec.iter().map(|r| (r.s - s0, r.deviation * 100.0));
+        chart
+            .draw_series(LineSeries::new(pts, colour.stroke_width(2)))?
+            .label(*name)
+            .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], colour.stroke_width(2)));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()?;
+    root.present()?;
+    Ok(())
 }
 
 fn fmt(x: f64, scale: f64, digits: usize) -> String {
@@ -125,17 +172,21 @@ fn run(args: Args) -> Result<(), String> {
     );
     let _ = writeln!(
         md,
-        "## §5 tracking scenarios\n\nPath (0, 0) → (30, 30) m, initial heading π/4; worst over {} plant seeds; joined = first within {:.0} cm of the path. Goals: join ≤ 5 m, RMS ≤ 5 cm, max ≤ 10 cm, final heading error ≤ 2°. A run that turns round or never joins shows —. Controllers: fuzzy (default scaling), fuzzy-join (`FuzzyConfig::straight_join()`), the source's PID (default scaling), pure pursuit (look-ahead 2 m + 0.05 s·|v|).\n",
+        "## §5 tracking scenarios\n\nPath (0, 0) → (30, 30) m, initial heading π/4; worst over {} plant seeds; joined = first within {:.0} cm of the path. Goals: join ≤ 5 m, RMS ≤ 5 cm, max ≤ 10 cm, final heading error ≤ 2°. A run that turns round or never joins shows —. Controllers: fuzzy (default scaling), fuzzy-join (`FuzzyConfig::straight_join()`), fuzzy+capture (the capture phase of `crawler::capture`, then the default fuzzy), the source's PID (default scaling), pure pursuit (look-ahead 2 m + 0.05 s·|v|).\n",
         args.runs,
         args.join_tolerance * 100.0
     );
     md += "| start | speed | slip | controller | arrived | join (m) | RMS (cm) | max (cm) | heading (°) |\n|---|---|---|---|---|---|---|---|---|\n";
     let mut rows = vec![];
-    for (start, speed) in [([2.0, -2.0], 2.0), ([0.0, 5.0], 1.0)] {
+    let mut plotted = vec![];
+    for (start, speed) in SOURCE_SCENARIOS {
         for slip in [0.0, 0.1, 0.2] {
-            for name in ["fuzzy", "fuzzy-join", "pid", "pursuit"] {
-                let w = scenario(args.join_tolerance, name, start, speed, slip, args.runs)
+            for name in ["fuzzy", "fuzzy-join", "fuzzy+capture", "pid", "pursuit"] {
+                let (w, first) = scenario(args.join_tolerance, name, start, speed, slip, args.runs)
                     .map_err(|e| e.to_string())?;
+                if (start, speed, slip) == PLOTTED {
+                    plotted.push((name, first));
+                }
                 let _ = writeln!(
                     md,
                     "| ({}, {}) | {speed} m/s | {:.0} % | {name} | {}/{} | {} | {} | {} | {} |",
@@ -160,6 +211,12 @@ fn run(args: Args) -> Result<(), String> {
             }
         }
     }
+    let plot = args.out.join("join.svg");
+    join_plot(&plot, &plotted).map_err(|e| format!("{}: {e}", plot.display()))?;
+    let _ = writeln!(
+        md,
+        "\nEach controller's first run of the (2, −2), 2 m/s, 20 % row: [join.svg](join.svg)."
+    );
     eprintln!("scenarios done; planning {} random fields", args.fields);
     let f = FieldParams::default();
     let free = f.clearance + f.follow_margin + 2.0 * Grid::FIELDS.cell;

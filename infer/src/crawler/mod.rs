@@ -13,6 +13,8 @@
 //! - [`moves`]: straight, curved and V-shaped moves of §1.
 //! - [`plant`]: crawler kinematics of §3 with seeded track slip.
 //! - [`fuzzy`]: the preview-deviation fuzzy controller of §4.
+//! - [`capture`]: a capture phase that joins a path from metres off it
+//!   before the tracker takes over.
 //! - [`baselines`]: the PID of §4 and a pure-pursuit tracker.
 //! - [`track`]: the closed loop and its deviation and heading-error record.
 //! - [`fields`]: seeded random obstacle fields and an independent grid
@@ -20,6 +22,7 @@
 
 pub mod baselines;
 pub mod bspline;
+pub mod capture;
 pub mod error;
 pub mod field;
 pub mod fields;

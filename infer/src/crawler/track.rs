@@ -10,8 +10,8 @@
 
 use super::error::{CrawlerError, finite, positive};
 use super::fuzzy::{FuzzyConfig, infer};
-use super::geometry::{Point, add, angle_of, dist, dot, scale, sub, unit_or};
-use super::plant::Plant;
+use super::geometry::{Point, Pose2, add, angle_of, dist, dot, scale, sub, unit_or};
+use super::plant::{Plant, PlantParams};
 use crate::math::{PI, cross, wrap_angle};
 
 /// A path to follow: points `spacing` apart (the last gap may be shorter),
@@ -43,6 +43,43 @@ impl<'a> PathRef<'a> {
             sign: 1.0,
         }
     }
+}
+
+/// The scenarios of spec §5: start offset \[m\] and speed \[m/s\].
+pub const SOURCE_SCENARIOS: [(Point, f64); 2] = [([2.0, -2.0], 2.0), ([0.0, 5.0], 1.0)];
+
+/// One run of a §5 scenario: the machine starts at `start` with heading
+/// π/4 on a plant of track slip `slip` (noise seed `seed`) and tracks the
+/// source's path at `speed` with `ctrl`, writing its records into
+/// `records` (4,000 hold any run). Returns the figures and how many
+/// records there are.
+pub fn source_scenario(
+    ctrl: &mut dyn Controller,
+    (start, speed): (Point, f64),
+    slip: f64,
+    seed: u64,
+    join_tolerance: f64,
+    records: &mut [Record],
+) -> Result<(Summary, usize), CrawlerError> {
+    let points = source_path_points();
+    let path = PathRef::source(&points);
+    let params = PlantParams {
+        slip,
+        ..Default::default()
+    };
+    let pose = Pose2::new(start[0], start[1], core::f64::consts::FRAC_PI_4);
+    let mut plant = Plant::new(pose, params, seed)?;
+    let tp = TrackParams {
+        speed,
+        join_tolerance,
+        ..Default::default()
+    };
+    let n = track(&mut plant, &path, ctrl, &tp, 0.0, records)?;
+    let end = points[SOURCE_PATH_STEPS];
+    Ok((
+        summarise(&records[..n], end, path.length(), join_tolerance),
+        n,
+    ))
 }
 
 /// The nearest point of a path to a query point.
@@ -137,6 +174,9 @@ pub struct Observation {
     /// Preview deviation d and centroid deviation d0 \[m\], right positive.
     pub d: f64,
     pub d0: f64,
+    /// Travel heading minus the path's heading at A \[rad\] (positive
+    /// turned left).
+    pub heading: f64,
     /// Path curvature at A \[1/m\].
     pub curvature: f64,
     /// The look-ahead point at distance `lookahead` along the path from A,
@@ -329,16 +369,17 @@ pub fn track_each(
         let d = -cross(ab, sub(c, a.point));
         let target = path_point(path, a.s + lookahead);
         let rel = sub(target, pos);
+        let heading_error = wrap_angle(travel - angle_of(a.tangent));
         let obs = Observation {
             dt: p.dt,
             speed: v,
             d,
             d0: a.right,
+            heading: heading_error,
             curvature: path.curvature(a.index),
             target_ahead: dot(rel, dir),
             target_left: cross(dir, rel),
         };
-        let heading_error = wrap_angle(travel - angle_of(a.tangent));
         if a.s >= length {
             each(record(
                 t0 + step as f64 * p.dt,
