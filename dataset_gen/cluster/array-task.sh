@@ -15,7 +15,9 @@
 #   SHARDS       n, the number of array tasks (required)
 #   OUT          the shared output folder (default runs/dataset, runs/library)
 #   SEED, PER_TYPE, ALGORITHM, ITERATIONS, POPULATION, PART_SIZE   as `dataset_gen generate`
-#   TASKS, SEED, WIDE=1, OPTIMISER, DIGS, POPULATION, ITERATIONS, RESTARTS, POLISH   as `dataset_gen library`
+#   TASKS, SEED, WIDE=1, ANCHORS, NEIGHBOURS, WAVE, OPTIMISER, DIGS, POPULATION, ITERATIONS,
+#   RESTARTS, POLISH   as `dataset_gen library` (a warm library, ANCHORS set, runs
+#   the array twice: WAVE=anchors, then WAVE=warm)
 #   DATASET_GEN  the dataset_gen binary (default: dataset_gen on PATH)
 set -euo pipefail
 
@@ -50,7 +52,7 @@ library)
     args=(library --shard "$k/$SHARDS" --out "$out" --no-progress
         --tasks "${TASKS:-1000}" --seed "${SEED:-7}")
     [[ ${WIDE:-} == 1 ]] && args+=(--wide)
-    for v in OPTIMISER DIGS POPULATION ITERATIONS RESTARTS POLISH; do
+    for v in ANCHORS NEIGHBOURS WAVE OPTIMISER DIGS POPULATION ITERATIONS RESTARTS POLISH; do
         [[ -n ${!v:-} ]] && args+=("--${v,,}" "${!v}")
     done
     exec "$bin" "${args[@]}"

@@ -11,6 +11,12 @@
 //! a learned placement model would be trained on. A library is built in
 //! shards that share one folder (array tasks on a cluster engine) and
 //! merged into one MCAP file ([`build_shard`], [`merge`]).
+//!
+//! A large library is built warm: its first tasks (the anchors) are
+//! searched cold, and every later task is refitted from the plans of its
+//! nearest anchors, as a new task is. Neighbouring tasks then share their
+//! source plans, so their plans vary smoothly (what a network trained on
+//! them needs), at a fraction of a cold search's cost.
 
 use crate::dataset::file::{McapFile, read_messages};
 use crate::dataset::writer::metadata_with;
@@ -36,6 +42,11 @@ pub struct LibrarySettings {
     pub seed: u64,
     pub ranges: RandomRanges,
     pub sequence: SequenceSettings,
+    /// Tasks 0..anchors are searched cold; each later one is refitted from
+    /// its `neighbours` nearest anchors' plans ([`refit_from_library`],
+    /// `sequence.polish` evaluations each). `None`: every task cold.
+    pub anchors: Option<usize>,
+    pub neighbours: usize,
 }
 
 impl Default for LibrarySettings {
@@ -46,14 +57,72 @@ impl Default for LibrarySettings {
             seed: 7,
             ranges: RandomRanges::default(),
             sequence: SequenceSettings::default(),
+            anchors: None,
+            neighbours: 3,
         }
     }
 }
 
 impl LibrarySettings {
-    /// Sequences evaluated to build the whole library (for progress bars).
-    pub fn evaluations(&self) -> u64 {
-        self.tasks as u64 * self.sequence.evaluations()
+    /// Is task `index` searched cold?
+    pub fn is_anchor(&self, index: usize) -> bool {
+        self.anchors.is_none_or(|a| index < a)
+    }
+
+    /// Sequences evaluated for task `index` (for progress bars).
+    pub fn task_evaluations(&self, index: usize) -> u64 {
+        if self.is_anchor(index) {
+            self.sequence.evaluations()
+        } else {
+            (self.neighbours * self.sequence.polish) as u64
+        }
+    }
+
+    fn validate(&self) -> Result<(), Error> {
+        if self.anchors == Some(0) || !(1..=MAX_NEIGHBOURS).contains(&self.neighbours) {
+            return Err(Error::BadSettings(format!(
+                "a warm library needs at least one anchor and 1 to {MAX_NEIGHBOURS} neighbours (got {:?} and {})",
+                self.anchors, self.neighbours
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// Which of its tasks a run builds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Wave {
+    /// The anchors alone (searched cold).
+    Anchors,
+    /// The warm tasks alone: every anchor must be built, by any shard.
+    Warm,
+    /// Both, anchors first.
+    #[default]
+    All,
+}
+
+impl Wave {
+    /// Does this wave build task `index`?
+    pub fn builds(self, settings: &LibrarySettings, index: usize) -> bool {
+        match self {
+            Wave::Anchors => settings.is_anchor(index),
+            Wave::Warm => !settings.is_anchor(index),
+            Wave::All => true,
+        }
+    }
+}
+
+impl std::str::FromStr for Wave {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self, Error> {
+        match s {
+            "anchors" => Ok(Wave::Anchors),
+            "warm" => Ok(Wave::Warm),
+            "all" => Ok(Wave::All),
+            _ => Err(Error::BadArgument(format!(
+                "unknown wave `{s}` (expected anchors, warm or all)"
+            ))),
+        }
     }
 }
 
@@ -82,7 +151,7 @@ pub fn build(
     dir: &Path,
     bar: Option<&indicatif::ProgressBar>,
 ) -> Result<BuildReport, Error> {
-    build_shard(planner, settings, dir, Shard::ALL, bar)
+    build_shard(planner, settings, dir, Shard::ALL, Wave::All, bar)
 }
 
 /// The tasks of shard k of n of the library in `dir`: for each random
@@ -92,23 +161,29 @@ pub fn build(
 /// tasks of a cluster job) and never write each other's files. A file
 /// already there is kept, so an interrupted build resumes where it
 /// stopped; each file is written whole (temporary file, then rename), so
-/// an interruption never leaves half a plan. `bar` counts the sequences
-/// evaluated. Same settings, same plans, whatever the threads or shards;
-/// [`merge`] joins them.
+/// an interruption never leaves half a plan. `wave` picks the anchors,
+/// the warm tasks or both; a warm task needs every anchor built (a
+/// sharded warm library runs the anchors wave on every shard first).
+/// `bar` counts the sequences evaluated. Same settings, same plans,
+/// whatever the threads or shards; [`merge`] joins them.
 pub fn build_shard(
     planner: &Planner,
     settings: &LibrarySettings,
     dir: &Path,
     shard: Shard,
+    wave: Wave,
     bar: Option<&indicatif::ProgressBar>,
 ) -> Result<BuildReport, Error> {
+    settings.validate()?;
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     write_manifest(settings, dir)?;
     // Two runs of one shard (a requeued array task whose first run still
     // lives) would compute the same plans twice.
     let _lock = FolderLock::acquire(dir, &format!("library-{}-of-{}.lock", shard.k, shard.n))?;
     let mut report = BuildReport::default();
-    for i in (0..settings.tasks).filter(|&i| shard.owns(i as u64)) {
+    let mut anchors = None;
+    let owned = (0..settings.tasks).filter(|&i| shard.owns(i as u64) && wave.builds(settings, i));
+    for i in owned {
         let path = entry_path(dir, i);
         let failed = failure_path(dir, i);
         let task = library_task(planner, settings, i)?;
@@ -124,17 +199,30 @@ pub fn build_shard(
             }
             report.kept += 1;
             if let Some(bar) = bar {
-                bar.inc(settings.sequence.evaluations());
+                bar.inc(settings.task_evaluations(i));
             }
         } else if failed.exists() {
             // The same search fails the same way: not run again.
             report.failed.push((i, read_failure(&failed)?));
             if let Some(bar) = bar {
-                bar.inc(settings.sequence.evaluations());
+                bar.inc(settings.task_evaluations(i));
             }
         } else {
-            let seed = derive_seed(settings.seed ^ 0x9E37, i as u64);
-            match optimise_task(planner, &task, &settings.sequence, seed, bar) {
+            let result = if settings.is_anchor(i) {
+                let seed = derive_seed(settings.seed ^ 0x9E37, i as u64);
+                optimise_task(planner, &task, &settings.sequence, seed, bar)
+            } else {
+                if anchors.is_none() {
+                    anchors = Some(load_anchors(planner, settings, dir)?);
+                }
+                let library = anchors.as_ref().expect("loaded above");
+                let warm = warm_task(planner, settings, library, &task);
+                if let Some(bar) = bar {
+                    bar.inc(settings.task_evaluations(i));
+                }
+                warm
+            };
+            match result {
                 Ok(plan) => {
                     write_whole(&path, &plan.to_json())?;
                     report.written += 1;
@@ -152,6 +240,85 @@ pub fn build_shard(
         }
     }
     Ok(report)
+}
+
+/// The anchors' plans in `dir`, as a library to refit warm tasks from; an
+/// error names the anchors not built yet.
+fn load_anchors(
+    planner: &Planner,
+    settings: &LibrarySettings,
+    dir: &Path,
+) -> Result<Library, Error> {
+    let count = settings
+        .anchors
+        .unwrap_or(settings.tasks)
+        .min(settings.tasks);
+    let mut plans = Vec::new();
+    let mut missing = Vec::new();
+    for j in 0..count {
+        let path = entry_path(dir, j);
+        if path.exists() {
+            let plan = read_plan(&path)?;
+            if plan.task != library_task(planner, settings, j)? {
+                return Err(Error::BadArgument(format!(
+                    "{}: the plan of another task than this library's anchor {}",
+                    path.display(),
+                    j + 1
+                )));
+            }
+            plans.push((path, plan));
+        } else if !failure_path(dir, j).exists() {
+            missing.push((j + 1).to_string());
+        }
+    }
+    if !missing.is_empty() {
+        return Err(Error::BadArgument(format!(
+            "{}: anchor task(s) {} not built yet; build every shard's anchors (`--wave anchors`) before the warm tasks",
+            dir.display(),
+            missing.join(", ")
+        )));
+    }
+    if plans.is_empty() {
+        return Err(Error::BadProblem(
+            "no anchor found a plan, so no warm task can be refitted".into(),
+        ));
+    }
+    Ok(Library {
+        plans,
+        ranges: settings.ranges,
+    })
+}
+
+/// A warm task's plan: the best of its nearest anchors' plans refitted to
+/// it, or why none could be (a `BadProblem`, recorded as a failure).
+fn warm_task(
+    planner: &Planner,
+    settings: &LibrarySettings,
+    anchors: &Library,
+    task: &TrenchTask,
+) -> Result<Plan, Error> {
+    let (mut refits, best) = refit_from_library(
+        planner,
+        anchors,
+        task,
+        settings.neighbours,
+        &settings.sequence,
+    )?;
+    match best {
+        Some(b) => Ok(refits
+            .swap_remove(b)
+            .result
+            .expect("the best refit is feasible")),
+        None => Err(Error::BadProblem(format!(
+            "no refit of the {} nearest anchors' plans is feasible: {}",
+            refits.len(),
+            refits
+                .iter()
+                .filter_map(|r| r.result.as_ref().err().cloned())
+                .collect::<Vec<_>>()
+                .join("; ")
+        ))),
+    }
 }
 
 /// Library task `index` (the planner accepts it), or an error if the

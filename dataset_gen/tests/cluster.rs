@@ -186,6 +186,68 @@ fn merged_plans(path: &Path) -> Vec<serde_json::Value> {
         .collect()
 }
 
+/// The library of [`library_task`]'s settings (and `extra` arguments) in
+/// one process, merged into OUT/library.mcap.
+fn whole_library(out: &Path, extra: &[&str]) {
+    let o = Command::new(env!("CARGO_BIN_EXE_dataset_gen"))
+        .args(["library", "--no-progress", "--tasks", "5", "--seed", "7"])
+        .args(["--wide", "--optimiser", "pso", "--digs", "1"])
+        .args(["--population", "12", "--iterations", "10"])
+        .args(["--restarts", "1", "--polish", "50"])
+        .args(extra)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap();
+    ok(&o);
+    ok(&Command::new(env!("CARGO_BIN_EXE_dataset_gen"))
+        .args(["library-merge", "--out"])
+        .arg(out)
+        .output()
+        .unwrap());
+}
+
+/// [`library_task`] of a warm library (anchors 1–3): its anchors wave.
+fn warm_anchors_task(script: &str, out: &Path) -> Command {
+    let mut c = library_task(script, out);
+    c.env("ANCHORS", "3")
+        .env("NEIGHBOURS", "2")
+        .env("WAVE", "anchors");
+    c
+}
+
+/// … and its warm wave.
+fn warm_rest_task(script: &str, out: &Path) -> Command {
+    let mut c = warm_anchors_task(script, out);
+    c.env("WAVE", "warm");
+    c
+}
+
+/// A warm library as a cluster runs it: the anchors array, then the warm
+/// array, then the merge; the same plans as one process builds.
+#[test]
+fn a_warm_library_as_two_arrays_gives_the_unsharded_library() {
+    let shared = tmp("library_warm");
+    let built = |reports: Vec<serde_json::Value>| -> u64 {
+        reports
+            .iter()
+            .map(|r| r["report"]["written"].as_u64().unwrap())
+            .sum()
+    };
+    assert_eq!(built(run_shards(warm_anchors_task, "library", &shared)), 3);
+    assert_eq!(built(run_shards(warm_rest_task, "library", &shared)), 2);
+    ok(&warm_rest_task("slurm/merge.sbatch", &shared)
+        .output()
+        .unwrap());
+    let whole = tmp("library_warm_whole");
+    whole_library(&whole, &["--anchors", "3", "--neighbours", "2"]);
+    let plans = merged_plans(&shared.join("library.mcap"));
+    assert_eq!(plans.len(), 5, "a plan for every task");
+    assert_eq!(plans, merged_plans(&whole.join("library.mcap")));
+    let _ = std::fs::remove_dir_all(shared);
+    let _ = std::fs::remove_dir_all(whole);
+}
+
 #[test]
 fn library_shards_as_separate_processes_give_the_unsharded_library() {
     let shared = tmp("library");
@@ -209,36 +271,7 @@ fn library_shards_as_separate_processes_give_the_unsharded_library() {
         .unwrap());
 
     let whole = tmp("library_whole");
-    let o = Command::new(env!("CARGO_BIN_EXE_dataset_gen"))
-        .args([
-            "library",
-            "--no-progress",
-            "--tasks",
-            "5",
-            "--seed",
-            "7",
-            "--wide",
-        ])
-        .args([
-            "--optimiser",
-            "pso",
-            "--digs",
-            "1",
-            "--population",
-            "12",
-            "--iterations",
-            "10",
-        ])
-        .args(["--restarts", "1", "--polish", "50", "--out"])
-        .arg(&whole)
-        .output()
-        .unwrap();
-    ok(&o);
-    ok(&Command::new(env!("CARGO_BIN_EXE_dataset_gen"))
-        .args(["library-merge", "--out"])
-        .arg(&whole)
-        .output()
-        .unwrap());
+    whole_library(&whole, &[]);
     let plans = merged_plans(&shared.join("library.mcap"));
     assert_eq!(plans.len(), 5, "a plan for every task");
     assert_eq!(plans, merged_plans(&whole.join("library.mcap")));

@@ -4,7 +4,10 @@
 //! budgets, so this runs in seconds.
 
 use dataset_gen::Error;
-use dataset_gen::library::{Library, LibrarySettings, build, entry_path, refit_from_library};
+use dataset_gen::jobs::Shard;
+use dataset_gen::library::{
+    Library, LibrarySettings, Wave, build, build_shard, entry_path, refit_from_library,
+};
 use dataset_gen::sequence::{SequenceOptimiser, SequenceSettings};
 use dataset_gen::tasks::random_task;
 use infer::trench::RandomRanges;
@@ -35,6 +38,8 @@ fn small() -> LibrarySettings {
             polish: 300,
             ..SequenceSettings::default()
         },
+        anchors: None,
+        neighbours: 3,
     }
 }
 
@@ -131,4 +136,55 @@ fn a_library_plan_refitted_to_its_own_task_is_no_worse() {
     std::fs::remove_dir_all(&dir).unwrap();
     let e = Library::load(&dir).unwrap_err();
     assert!(e.to_string().contains("library.json"), "{e}");
+}
+
+/// A warm library: the anchors searched cold, the rest refitted from
+/// them. Built in two shards (anchors wave on both, then warm) it equals
+/// the one-process build; a warm wave before its anchors is refused by
+/// name; every warm plan replays under `plan --verify`'s check.
+#[test]
+fn a_warm_library_in_shards_equals_one_build() {
+    let p = planner();
+    let settings = LibrarySettings {
+        tasks: 4,
+        anchors: Some(2),
+        neighbours: 2,
+        ..small()
+    };
+    let whole = temp_dir("warm-whole");
+    let report = build(&p, &settings, &whole, None).unwrap();
+    assert_eq!((report.written, report.failed.len()), (4, 0), "{report:?}");
+
+    let sharded = temp_dir("warm-shards");
+    let half = |k| Shard { k, n: 2 };
+    let e = build_shard(&p, &settings, &sharded, half(1), Wave::Warm, None).unwrap_err();
+    assert!(
+        e.to_string().contains("anchor task(s) 1, 2 not built yet"),
+        "{e}"
+    );
+    for k in 0..2 {
+        build_shard(&p, &settings, &sharded, half(k), Wave::Anchors, None).unwrap();
+    }
+    assert!(
+        !entry_path(&sharded, 2).exists(),
+        "the anchors wave built a warm task"
+    );
+    for k in 0..2 {
+        build_shard(&p, &settings, &sharded, half(k), Wave::Warm, None).unwrap();
+    }
+    for i in 0..4 {
+        let plan = plan_at(&sharded, i);
+        assert!(plan == plan_at(&whole, i), "task {i} differs");
+        assert_eq!(plan.verify(&p).unwrap(), plan.metrics);
+    }
+
+    let bad = LibrarySettings {
+        anchors: Some(0),
+        ..settings
+    };
+    let e = build(&p, &bad, &temp_dir("warm-bad"), None).unwrap_err();
+    assert!(matches!(e, Error::BadSettings(_)), "{e}");
+    for dir in [whole, sharded] {
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

@@ -201,6 +201,17 @@ enum Command {
         /// i mod n), e.g. 0/4, in a folder the shards share; `library-merge` joins them.
         #[arg(long)]
         shard: Option<String>,
+        /// Search only tasks 1..=N cold (the anchors) and refit every later
+        /// task from its nearest anchors' plans (default: every task cold).
+        #[arg(long)]
+        anchors: Option<usize>,
+        /// Anchors' plans each warm task is refitted from (the best is kept).
+        #[arg(long, default_value_t = 3)]
+        neighbours: usize,
+        /// anchors, warm or all: which tasks this run builds (a sharded warm
+        /// library runs anchors on every shard, then warm).
+        #[arg(long, default_value = "all")]
+        wave: String,
         #[command(flatten)]
         sequence: SequenceArgs,
         #[arg(long, default_value = "runs/library")]
@@ -500,6 +511,9 @@ fn main_inner() -> Result<(), Error> {
             seed,
             wide,
             shard,
+            anchors,
+            neighbours,
+            wave,
             sequence,
             out,
             no_progress,
@@ -507,6 +521,7 @@ fn main_inner() -> Result<(), Error> {
             let planner = default_planner()?;
             let shard = shard.as_deref().map(str::parse::<Shard>).transpose()?;
             let shard = shard.unwrap_or(Shard::ALL);
+            let wave: library::Wave = wave.parse()?;
             let settings = library::LibrarySettings {
                 tasks,
                 seed,
@@ -516,14 +531,15 @@ fn main_inner() -> Result<(), Error> {
                     Default::default()
                 },
                 sequence: sequence.settings()?,
+                anchors,
+                neighbours,
             };
-            let owned = (0..tasks as u64).filter(|&i| shard.owns(i)).count() as u64;
-            let bar = dataset_gen::jobs::progress_bar(
-                owned * settings.sequence.evaluations(),
-                "sequences",
-                !no_progress,
-            );
-            let report = library::build_shard(&planner, &settings, &out, shard, Some(&bar))?;
+            let total = (0..tasks)
+                .filter(|&i| shard.owns(i as u64) && wave.builds(&settings, i))
+                .map(|i| settings.task_evaluations(i))
+                .sum();
+            let bar = dataset_gen::jobs::progress_bar(total, "sequences", !no_progress);
+            let report = library::build_shard(&planner, &settings, &out, shard, wave, Some(&bar))?;
             bar.finish_and_clear();
             print(&serde_json::json!({ "out": out, "report": report }))
         }
