@@ -15,7 +15,7 @@
 #   SHARDS       n, the number of array tasks (required)
 #   OUT          the shared output folder (default runs/dataset, runs/library)
 #   SEED, PER_TYPE, ALGORITHM, ITERATIONS, POPULATION, PART_SIZE   as `dataset_gen generate`
-#   TASKS, SEED, WIDE=1, ANCHORS, NEIGHBOURS, WAVE, OPTIMISER, DIGS, POPULATION, ITERATIONS,
+#   TASKS, SEED, WIDE=1, ANCHORS, NEIGHBOURS, RADIUS, WARM_ITERATIONS, WAVE, OPTIMISER, DIGS, POPULATION, ITERATIONS,
 #   RESTARTS, POLISH   as `dataset_gen library` (a warm library, ANCHORS set, runs
 #   the array twice: WAVE=anchors, then WAVE=warm)
 #   DATASET_GEN  the dataset_gen binary (default: dataset_gen on PATH)
@@ -52,8 +52,9 @@ library)
     args=(library --shard "$k/$SHARDS" --out "$out" --no-progress
         --tasks "${TASKS:-1000}" --seed "${SEED:-7}")
     [[ ${WIDE:-} == 1 ]] && args+=(--wide)
-    for v in ANCHORS NEIGHBOURS WAVE OPTIMISER DIGS POPULATION ITERATIONS RESTARTS POLISH; do
-        [[ -n ${!v:-} ]] && args+=("--${v,,}" "${!v}")
+    for v in ANCHORS NEIGHBOURS RADIUS WARM_ITERATIONS WAVE OPTIMISER DIGS POPULATION ITERATIONS RESTARTS POLISH; do
+        flag=${v,,}
+        [[ -n ${!v:-} ]] && args+=("--${flag//_/-}" "${!v}")
     done
     exec "$bin" "${args[@]}"
     ;;

@@ -13,17 +13,19 @@
 //! merged into one MCAP file ([`build_shard`], [`merge`]).
 //!
 //! A large library is built warm: its first tasks (the anchors) are
-//! searched cold, and every later task is refitted from the plans of its
-//! nearest anchors, as a new task is. Neighbouring tasks then share their
-//! source plans, so their plans vary smoothly (what a network trained on
-//! them needs), at a fraction of a cold search's cost.
+//! searched cold, and every later task by a local search near the plans
+//! of its nearest anchors. Neighbouring tasks then share their source
+//! plans, so their plans vary smoothly (what a network trained on them
+//! needs), at a fraction of a cold search's cost.
 
 use crate::dataset::file::{McapFile, read_messages};
 use crate::dataset::writer::metadata_with;
 use crate::error::Error;
 use crate::jobs::{FolderLock, Shard};
 use crate::rng::derive_seed;
-use crate::sequence::{SequenceSettings, carry_over, optimise_task, plan_value, refit_task};
+use crate::sequence::{
+    SequenceSettings, carry_over, optimise_near, optimise_task, plan_value, refit_task,
+};
 use crate::tasks::{MAX_DRAWS, random_task};
 use infer::plan::Plan;
 use infer::sequence::{MAX_NEIGHBOURS, nearest};
@@ -42,11 +44,35 @@ pub struct LibrarySettings {
     pub seed: u64,
     pub ranges: RandomRanges,
     pub sequence: SequenceSettings,
-    /// Tasks 0..anchors are searched cold; each later one is refitted from
-    /// its `neighbours` nearest anchors' plans ([`refit_from_library`],
-    /// `sequence.polish` evaluations each). `None`: every task cold.
+    /// Tasks 0..anchors are searched cold; each later one near its
+    /// nearest anchors' plans (`warm`). `None`: every task cold.
     pub anchors: Option<usize>,
+    pub warm: WarmSettings,
+}
+
+/// How a task after the anchors is searched: CMA-ES (or the cold search's
+/// optimiser) within a box around each of its nearest anchors' plans
+/// carried over to it ([`optimise_near`]), one run of `iterations` and a
+/// polish of `polish` evaluations each; the best plan is kept.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct WarmSettings {
     pub neighbours: usize,
+    /// Half-width of the box, a fraction of each variable's range.
+    pub radius: f64,
+    pub iterations: usize,
+    pub polish: usize,
+}
+
+impl Default for WarmSettings {
+    fn default() -> Self {
+        WarmSettings {
+            neighbours: 3,
+            radius: 0.3,
+            iterations: 750,
+            polish: 5000,
+        }
+    }
 }
 
 impl Default for LibrarySettings {
@@ -58,7 +84,7 @@ impl Default for LibrarySettings {
             ranges: RandomRanges::default(),
             sequence: SequenceSettings::default(),
             anchors: None,
-            neighbours: 3,
+            warm: WarmSettings::default(),
         }
     }
 }
@@ -69,20 +95,34 @@ impl LibrarySettings {
         self.anchors.is_none_or(|a| index < a)
     }
 
+    /// The search near one neighbour's plan, in the cold search's terms.
+    pub fn warm_search(&self) -> SequenceSettings {
+        SequenceSettings {
+            iterations: self.warm.iterations,
+            restarts: 1,
+            polish: self.warm.polish,
+            ..self.sequence
+        }
+    }
+
     /// Sequences evaluated for task `index` (for progress bars).
     pub fn task_evaluations(&self, index: usize) -> u64 {
         if self.is_anchor(index) {
             self.sequence.evaluations()
         } else {
-            (self.neighbours * self.sequence.polish) as u64
+            self.warm.neighbours as u64 * self.warm_search().evaluations()
         }
     }
 
     fn validate(&self) -> Result<(), Error> {
-        if self.anchors == Some(0) || !(1..=MAX_NEIGHBOURS).contains(&self.neighbours) {
+        let w = &self.warm;
+        if self.anchors == Some(0)
+            || !(1..=MAX_NEIGHBOURS).contains(&w.neighbours)
+            || !(w.radius > 0.0 && w.radius <= 1.0)
+        {
             return Err(Error::BadSettings(format!(
-                "a warm library needs at least one anchor and 1 to {MAX_NEIGHBOURS} neighbours (got {:?} and {})",
-                self.anchors, self.neighbours
+                "a warm library needs at least one anchor, 1 to {MAX_NEIGHBOURS} neighbours and a radius in (0, 1] (got {:?}, {} and {})",
+                self.anchors, w.neighbours, w.radius
             )));
         }
         Ok(())
@@ -142,6 +182,9 @@ pub struct BuildReport {
     pub kept: usize,
     /// Tasks for which sequence PSO found no feasible plan, with why.
     pub failed: Vec<(usize, String)>,
+    /// Warm tasks searched cold because no search near their anchors'
+    /// plans found a feasible one.
+    pub searched_cold: Vec<usize>,
 }
 
 /// Builds the library in `dir`: every task, in one process.
@@ -208,19 +251,32 @@ pub fn build_shard(
                 bar.inc(settings.task_evaluations(i));
             }
         } else {
+            let cold_seed = derive_seed(settings.seed ^ 0x9E37, i as u64);
+            let cold = || optimise_task(planner, &task, &settings.sequence, cold_seed, bar);
             let result = if settings.is_anchor(i) {
-                let seed = derive_seed(settings.seed ^ 0x9E37, i as u64);
-                optimise_task(planner, &task, &settings.sequence, seed, bar)
+                cold()
             } else {
                 if anchors.is_none() {
                     anchors = Some(load_anchors(planner, settings, dir)?);
                 }
                 let library = anchors.as_ref().expect("loaded above");
-                let warm = warm_task(planner, settings, library, &task);
+                let seed = derive_seed(settings.seed ^ 0x3A7, i as u64);
+                let warm = warm_task(planner, settings, library, &task, seed);
                 if let Some(bar) = bar {
                     bar.inc(settings.task_evaluations(i));
                 }
-                warm
+                match warm {
+                    // No plan near the anchors': the task is searched cold,
+                    // so the library has no hole where they are sparse.
+                    Err(Error::BadProblem(_)) => {
+                        report.searched_cold.push(i);
+                        if let Some(bar) = bar {
+                            bar.inc_length(settings.sequence.evaluations());
+                        }
+                        cold()
+                    }
+                    warm => warm,
+                }
             };
             match result {
                 Ok(plan) => {
@@ -289,32 +345,60 @@ fn load_anchors(
     })
 }
 
-/// A warm task's plan: the best of its nearest anchors' plans refitted to
-/// it, or why none could be (a `BadProblem`, recorded as a failure).
+/// A warm task's plan: the best of the searches near its nearest
+/// anchors' plans (in parallel, each seeded from the task and the
+/// neighbour's rank), or why none found a feasible one (a `BadProblem`,
+/// recorded as a failure).
 fn warm_task(
     planner: &Planner,
     settings: &LibrarySettings,
     anchors: &Library,
     task: &TrenchTask,
+    seed: u64,
 ) -> Result<Plan, Error> {
-    let (mut refits, best) = refit_from_library(
-        planner,
-        anchors,
-        task,
-        settings.neighbours,
-        &settings.sequence,
-    )?;
+    let clock = std::time::Instant::now();
+    let digs = planner
+        .digs_for(task)
+        .map_err(|e| Error::BadArgument(e.to_string()))?;
+    let design = DesignProfile::new(planner.config(), task);
+    let search = settings.warm_search();
+    let results = anchors
+        .nearest(task, digs, settings.warm.neighbours)
+        .into_par_iter()
+        .enumerate()
+        .map(|(j, (_, plan))| {
+            let init = carry_over(planner, plan, &design)?;
+            let s = derive_seed(seed, j as u64);
+            match optimise_near(planner, task, &init, settings.warm.radius, &search, s) {
+                Ok(p) => Ok(Ok(p)),
+                Err(Error::BadProblem(why)) => Ok(Err(why)),
+                Err(e) => Err(e),
+            }
+        })
+        .collect::<Result<Vec<_>, Error>>()?;
+    let w = search.weight_objective;
+    // The nearer neighbour wins ties: the choice does not depend on timing.
+    let best = results
+        .iter()
+        .enumerate()
+        .filter_map(|(j, r)| r.as_ref().ok().map(|p| (plan_value(p, w), j)))
+        .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     match best {
-        Some(b) => Ok(refits
-            .swap_remove(b)
-            .result
-            .expect("the best refit is feasible")),
+        Some((_, j)) => {
+            let mut plan = results
+                .into_iter()
+                .nth(j)
+                .expect("in range")
+                .expect("feasible");
+            plan.planning_seconds = clock.elapsed().as_secs_f64();
+            Ok(plan)
+        }
         None => Err(Error::BadProblem(format!(
-            "no refit of the {} nearest anchors' plans is feasible: {}",
-            refits.len(),
-            refits
+            "no search near the {} nearest anchors' plans found a feasible sequence: {}",
+            results.len(),
+            results
                 .iter()
-                .filter_map(|r| r.result.as_ref().err().cloned())
+                .filter_map(|r| r.as_ref().err().cloned())
                 .collect::<Vec<_>>()
                 .join("; ")
         ))),

@@ -165,6 +165,16 @@ impl<'a> SequenceProblem<'a> {
         }
     }
 
+    /// Shrinks the search box to within `radius` of each range around
+    /// `init` (clamped to the box first).
+    fn narrow(&mut self, init: &[f64], radius: f64) {
+        for ((lo, hi), &v) in self.lo.iter_mut().zip(self.hi.iter_mut()).zip(init) {
+            let r = radius * (*hi - *lo);
+            let v = v.clamp(*lo, *hi);
+            (*lo, *hi) = ((v - r).max(*lo), (v + r).min(*hi));
+        }
+    }
+
     /// Plays the digs of `x` from the start surface; `on_dig` sees each
     /// evaluated dig and the surface after it. Returns (profile error +
     /// weighted objective, total violation).
@@ -332,11 +342,70 @@ pub fn optimise_task(
     seed: u64,
     bar: Option<&indicatif::ProgressBar>,
 ) -> Result<Plan, Error> {
-    let clock = std::time::Instant::now();
     let expected = planner
         .digs_for(task)
         .map_err(|e| Error::BadArgument(e.to_string()))?;
-    let digs = settings.digs.unwrap_or(expected);
+    search(
+        planner,
+        task,
+        settings.digs.unwrap_or(expected),
+        None,
+        settings,
+        seed,
+        bar,
+    )
+}
+
+/// [`optimise_task`] within a box around the sequence `init` (e.g. a
+/// neighbouring task's plan [`carry_over`]ed to this one): each variable
+/// within `radius` of its range from its value in `init`, and `init`'s
+/// number of digs. A warm start: a plan found so stays near the plan it
+/// came from, as plans of neighbouring tasks should for a network to learn
+/// them, and a local search needs a fraction of a global one's budget.
+pub fn optimise_near(
+    planner: &Planner,
+    task: &TrenchTask,
+    init: &[f64],
+    radius: f64,
+    settings: &SequenceSettings,
+    seed: u64,
+) -> Result<Plan, Error> {
+    planner
+        .digs_for(task)
+        .map_err(|e| Error::BadArgument(e.to_string()))?;
+    if init.is_empty()
+        || !init.len().is_multiple_of(PER_DIG)
+        || init.iter().any(|v| !v.is_finite())
+        || !(radius > 0.0 && radius <= 1.0)
+    {
+        return Err(Error::BadSettings(format!(
+            "a warm start needs whole digs of {PER_DIG} finite variables (got {}) and a radius in (0, 1] (got {radius})",
+            init.len()
+        )));
+    }
+    let digs = init.len() / PER_DIG;
+    search(
+        planner,
+        task,
+        digs,
+        Some((init, radius)),
+        settings,
+        seed,
+        None,
+    )
+}
+
+/// The search behind [`optimise_task`] and [`optimise_near`].
+fn search(
+    planner: &Planner,
+    task: &TrenchTask,
+    digs: usize,
+    near: Option<(&[f64], f64)>,
+    settings: &SequenceSettings,
+    seed: u64,
+    bar: Option<&indicatif::ProgressBar>,
+) -> Result<Plan, Error> {
+    let clock = std::time::Instant::now();
     let w = settings.weight_objective;
     if digs == 0
         || digs > infer::planner::MAX_DIGS
@@ -351,7 +420,13 @@ pub fn optimise_task(
     let cfg = *planner.config();
     let design = DesignProfile::new(&cfg, task);
     let start = planner.initial_terrain(&design)?;
-    let problem = |bar| SequenceProblem::new(planner, &design, &start, digs, w, bar);
+    let problem = |bar| {
+        let mut p = SequenceProblem::new(planner, &design, &start, digs, w, bar);
+        if let Some((init, radius)) = near {
+            p.narrow(init, radius);
+        }
+        p
+    };
     let alg = AnyAlgorithm::by_name(settings.optimiser.name(), settings.population)?;
     let runs = (0..settings.restarts as u64)
         .into_par_iter()

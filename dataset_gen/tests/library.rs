@@ -6,7 +6,8 @@
 use dataset_gen::Error;
 use dataset_gen::jobs::Shard;
 use dataset_gen::library::{
-    Library, LibrarySettings, Wave, build, build_shard, entry_path, refit_from_library,
+    Library, LibrarySettings, WarmSettings, Wave, build, build_shard, entry_path,
+    refit_from_library,
 };
 use dataset_gen::sequence::{SequenceOptimiser, SequenceSettings};
 use dataset_gen::tasks::random_task;
@@ -39,7 +40,12 @@ fn small() -> LibrarySettings {
             ..SequenceSettings::default()
         },
         anchors: None,
-        neighbours: 3,
+        warm: WarmSettings {
+            neighbours: 2,
+            iterations: 20,
+            polish: 200,
+            ..WarmSettings::default()
+        },
     }
 }
 
@@ -148,7 +154,6 @@ fn a_warm_library_in_shards_equals_one_build() {
     let settings = LibrarySettings {
         tasks: 4,
         anchors: Some(2),
-        neighbours: 2,
         ..small()
     };
     let whole = temp_dir("warm-whole");

@@ -8,7 +8,7 @@ use dataset_gen::algorithms::AnyAlgorithm;
 use dataset_gen::batch::{self, GenConfig, RunOptions, Shard};
 use dataset_gen::front;
 use dataset_gen::jobs::parts::{merge_job, run_and_merge};
-use dataset_gen::library;
+use dataset_gen::library::{self, WarmSettings};
 use dataset_gen::rng::rng_from_seed;
 use dataset_gen::rope_shovel::dataset::{ShovelGenConfig, is_shovel_dir, summarise_shovel};
 use dataset_gen::rope_shovel::sample::read_shovel_dataset;
@@ -201,13 +201,19 @@ enum Command {
         /// i mod n), e.g. 0/4, in a folder the shards share; `library-merge` joins them.
         #[arg(long)]
         shard: Option<String>,
-        /// Search only tasks 1..=N cold (the anchors) and refit every later
-        /// task from its nearest anchors' plans (default: every task cold).
+        /// Search only tasks 1..=N cold (the anchors), every later task near
+        /// its nearest anchors' plans (default: every task cold).
         #[arg(long)]
         anchors: Option<usize>,
-        /// Anchors' plans each warm task is refitted from (the best is kept).
-        #[arg(long, default_value_t = 3)]
+        /// Anchors' plans each warm task is searched near (the best is kept).
+        #[arg(long, default_value_t = WarmSettings::default().neighbours)]
         neighbours: usize,
+        /// Half-width of the box searched around each, a fraction of each range.
+        #[arg(long, default_value_t = WarmSettings::default().radius)]
+        radius: f64,
+        /// Iterations of the search near each (one run, then the polish).
+        #[arg(long, default_value_t = WarmSettings::default().iterations)]
+        warm_iterations: usize,
         /// anchors, warm or all: which tasks this run builds (a sharded warm
         /// library runs anchors on every shard, then warm).
         #[arg(long, default_value = "all")]
@@ -513,6 +519,8 @@ fn main_inner() -> Result<(), Error> {
             shard,
             anchors,
             neighbours,
+            radius,
+            warm_iterations,
             wave,
             sequence,
             out,
@@ -532,7 +540,12 @@ fn main_inner() -> Result<(), Error> {
                 },
                 sequence: sequence.settings()?,
                 anchors,
-                neighbours,
+                warm: WarmSettings {
+                    neighbours,
+                    radius,
+                    iterations: warm_iterations,
+                    ..Default::default()
+                },
             };
             let total = (0..tasks)
                 .filter(|&i| shard.owns(i as u64) && wave.builds(&settings, i))
