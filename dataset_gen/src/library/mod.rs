@@ -105,8 +105,10 @@ impl LibrarySettings {
             || !(w.radius > 0.0 && w.radius <= 1.0)
         {
             return Err(Error::BadSettings(format!(
-                "a warm library needs at least one anchor, 1 to {MAX_NEIGHBOURS} neighbours and a radius in (0, 1] (got {:?}, {} and {})",
-                self.anchors, w.neighbours, w.radius
+                "a warm library needs at least one anchor, 1 to {MAX_NEIGHBOURS} neighbours and a radius in (0, 1] (got {} anchors, {} neighbours, radius {})",
+                self.anchors.unwrap_or(0),
+                w.neighbours,
+                w.radius
             )));
         }
         Ok(())
