@@ -100,15 +100,16 @@ impl LibrarySettings {
 
     fn validate(&self) -> Result<(), Error> {
         let w = &self.warm;
-        if self.anchors == Some(0)
+        let Some(anchors) = self.anchors else {
+            return Ok(());
+        };
+        if anchors == 0
             || !(1..=MAX_NEIGHBOURS).contains(&w.neighbours)
             || !(w.radius > 0.0 && w.radius <= 1.0)
         {
             return Err(Error::BadSettings(format!(
                 "a warm library needs at least one anchor, 1 to {MAX_NEIGHBOURS} neighbours and a radius in (0, 1] (got {} anchors, {} neighbours, radius {})",
-                self.anchors.unwrap_or(0),
-                w.neighbours,
-                w.radius
+                anchors, w.neighbours, w.radius
             )));
         }
         Ok(())
