@@ -52,7 +52,7 @@ impl ArmPath<3> for JointPath<'_> {
     type Error = Error;
     type Metering = AbsoluteTotal;
 
-    #[inline]
+    #[inline(always)]
     fn at(&self, t: f64) -> Result<Motion<3, JointFrame>, Error> {
         let l = &self.machine.link_length;
         let js = self.traj.at(t);
@@ -70,7 +70,7 @@ impl ArmPath<3> for JointPath<'_> {
 
     /// Joint torques (computed whole, not as motion + static: the same
     /// bits as ever) at the joint speeds.
-    #[inline]
+    #[inline(always)]
     fn drives(
         &self,
         m: &Motion<3, JointFrame>,
@@ -99,7 +99,7 @@ pub(crate) struct Carving<'a> {
 impl Material<3, JointFrame> for Carving<'_> {
     type Error = Error;
 
-    #[inline]
+    #[inline(always)]
     fn cut(&mut self, k: usize, dt: f64, m: &Motion<3, JointFrame>) -> Result<Cut, Error> {
         let terrain = self.terrain;
         let tip = terrain.grid_point(m.tip);
@@ -126,12 +126,12 @@ impl Material<3, JointFrame> for Carving<'_> {
         })
     }
 
-    #[inline]
+    #[inline(always)]
     fn resistance(&self, depth: f64, tip_velocity: [f64; 2]) -> [f64; 2] {
         tip_resistance(self.machine, self.soil, depth, tip_velocity)
     }
 
-    #[inline]
+    #[inline(always)]
     fn density(&self) -> f64 {
         self.soil.density
     }
@@ -175,7 +175,7 @@ pub(crate) struct JointRecord<'a> {
 }
 
 impl Record<3, JointFrame, f64> for JointRecord<'_> {
-    #[inline]
+    #[inline(always)]
     fn record(&mut self, s: &Step<'_, 3, JointFrame, f64>) {
         let (m, torque, power) = (s.motion, &s.drives.effort, s.power);
         let r = &mut self.r;
@@ -223,10 +223,10 @@ impl Record<3, JointFrame, f64> for JointRecord<'_> {
     /// Each of these is a monotone floating-point expression of the same
     /// operands the final report uses, so "bound > reference" implies
     /// "final > reference".
-    #[inline]
+    #[inline(always)]
     fn stop(&self, k: usize, energy: &f64) -> bool {
         let Some(c) = self.cutoff else { return false };
-        if k % CUTOFF_EVERY != 0 {
+        if !k.is_multiple_of(CUTOFF_EVERY) {
             return false;
         }
         let obj = &self.cfg.objective;

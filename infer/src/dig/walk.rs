@@ -120,12 +120,12 @@ impl<const N: usize> Metering<N> for AbsoluteTotal {
     type Power = f64;
     const ZERO: f64 = 0.0;
 
-    #[inline]
+    #[inline(always)]
     fn power(per_drive: &[f64; N]) -> f64 {
         per_drive.iter().map(|p| p.abs()).sum()
     }
 
-    #[inline]
+    #[inline(always)]
     fn integrate(energy: &mut f64, prev: &f64, now: &f64, dt: f64) {
         *energy += 0.5 * (prev + now) * dt;
     }
@@ -140,12 +140,12 @@ impl<const N: usize> Metering<N> for SignedPerDrive {
     type Power = [f64; N];
     const ZERO: [f64; N] = [0.0; N];
 
-    #[inline]
+    #[inline(always)]
     fn power(per_drive: &[f64; N]) -> [f64; N] {
         *per_drive
     }
 
-    #[inline]
+    #[inline(always)]
     fn integrate(energy: &mut [f64; N], prev: &[f64; N], now: &[f64; N], dt: f64) {
         for i in 0..N {
             energy[i] += 0.5 * (prev[i] + now[i]) * dt;

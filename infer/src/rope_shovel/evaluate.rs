@@ -49,7 +49,7 @@ impl ArmPath<2> for HandlePath<'_> {
     type Error = ShovelError;
     type Metering = SignedPerDrive;
 
-    #[inline]
+    #[inline(always)]
     fn at(&self, t: f64) -> Result<Motion<2, ShovelFrame>, ShovelError> {
         let p = self.p;
         let pt = self.path.at(t);
@@ -67,7 +67,7 @@ impl ArmPath<2> for HandlePath<'_> {
     }
 
     /// Hoist and crowd forces (of the total generalised effort) and speeds.
-    #[inline]
+    #[inline(always)]
     fn drives(
         &self,
         m: &Motion<2, ShovelFrame>,
@@ -98,7 +98,7 @@ struct Pile<'a> {
 impl Material<2, ShovelFrame> for Pile<'_> {
     type Error = ShovelError;
 
-    #[inline]
+    #[inline(always)]
     fn cut(&mut self, k: usize, dt: f64, m: &Motion<2, ShovelFrame>) -> Result<Cut, ShovelError> {
         let heights = self.sections.heights(m.tip[0])?;
         let depth = (heights[4] - m.tip[1]).max(0.0);
@@ -114,12 +114,12 @@ impl Material<2, ShovelFrame> for Pile<'_> {
         })
     }
 
-    #[inline]
+    #[inline(always)]
     fn resistance(&self, depth: f64, tip_velocity: [f64; 2]) -> [f64; 2] {
         tip_resistance(self.p, depth, tip_velocity)
     }
 
-    #[inline]
+    #[inline(always)]
     fn density(&self) -> f64 {
         self.p.density
     }
@@ -141,7 +141,7 @@ struct HandleRecord {
 }
 
 impl Record<2, ShovelFrame, [f64; 2]> for HandleRecord {
-    #[inline]
+    #[inline(always)]
     fn record(&mut self, s: &Step<'_, 2, ShovelFrame, [f64; 2]>) {
         for i in 0..2 {
             self.speed[i].push(s.drives.speed[i]);
@@ -159,7 +159,7 @@ impl Record<2, ShovelFrame, [f64; 2]> for HandleRecord {
 
 /// The back angle ψ (rad) of the tip's direction of motion in the handle
 /// frame; at rest (the ends) the direction is the jerk's.
-#[inline]
+#[inline(always)]
 fn back_angle(s: &Step<'_, 2, ShovelFrame, [f64; 2]>, n: usize) -> f64 {
     let (frame, pt) = (&s.motion.frame.handle, &s.motion.frame.point);
     let dir = if s.k == 0 || s.k == n - 1 { pt.j } else { pt.v };
@@ -168,7 +168,7 @@ fn back_angle(s: &Step<'_, 2, ShovelFrame, [f64; 2]>, n: usize) -> f64 {
 }
 
 /// The base frame's point at `q` in the pile frame.
-#[inline]
+#[inline(always)]
 fn base(p: &ShovelParams, q: [f64; 2]) -> [f64; 2] {
     [p.toe[0] + q[0], p.toe[1] + q[1]]
 }
@@ -179,7 +179,7 @@ pub fn evaluate(
     surface: &PileSurface,
     vars: &DigVars,
 ) -> Result<ShovelReport, ShovelError> {
-    walk(p, surface, vars, |_| {})
+    walk::<false>(p, surface, vars, |_| {})
 }
 
 /// [`evaluate`], calling `on_sample` at every time sample (for plots, logs
@@ -190,13 +190,13 @@ pub fn evaluate_with(
     vars: &DigVars,
     on_sample: impl FnMut(&ShovelSample),
 ) -> Result<ShovelReport, ShovelError> {
-    walk(p, surface, vars, on_sample)
+    walk::<true>(p, surface, vars, on_sample)
 }
 
 /// The evaluation on the generic walk; the samples (and the handle angle
-/// θ only they need) are formed in the hook, which [`evaluate`] leaves
-/// empty.
-fn walk(
+/// θ only they need) are formed when `SAMPLES` is set (a no-op hook alone
+/// would not spare the atan2s: the optimiser keeps libm calls).
+fn walk<const SAMPLES: bool>(
     p: &ShovelParams,
     surface: &PileSurface,
     vars: &DigVars,
@@ -243,6 +243,9 @@ fn walk(
         top_y: f64::NEG_INFINITY,
     };
     let hook = |s: &Step<'_, 2, ShovelFrame, [f64; 2]>| {
+        if !SAMPLES {
+            return;
+        }
         let m = s.motion;
         on_sample(&ShovelSample {
             t: m.t,
