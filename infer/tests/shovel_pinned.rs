@@ -2,6 +2,9 @@
 //! sample and every error of a fixed set of digs hashed, so a refactor of
 //! the dig walk cannot change a number unseen. Values pinned at f6ada76.
 
+mod common;
+
+use common::Lcg;
 use infer::deg;
 use infer::rope_shovel::volume::typical_pile;
 use infer::rope_shovel::{self, DigVars, ShovelParams, ShovelReport, ShovelSample};
@@ -64,21 +67,15 @@ fn shovel_evaluation_numbers_are_pinned_to_the_bit() {
         typical_pile(0.4, deg(40.0)).unwrap(),
         typical_pile(0.3, deg(30.0)).unwrap(),
     ];
-    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-    let mut uniform = |lo: f64, hi: f64| {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        lo + (hi - lo) * (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = Lcg(0x9e37_79b9_7f4a_7c15);
     let mut vars = vec![DigVars::TYPICAL];
     for _ in 0..60 {
         vars.push(DigVars::from_array([
-            uniform(-4e-6, 4e-6),
-            uniform(-4e-6, 4e-6),
-            uniform(4.0, 20.0),
-            uniform(0.05, 0.55),
-            uniform(0.05, 0.45),
+            rng.range(-4e-6, 4e-6),
+            rng.range(-4e-6, 4e-6),
+            rng.range(4.0, 20.0),
+            rng.range(0.05, 0.55),
+            rng.range(0.05, 0.45),
         ]));
     }
     let mut h = Hash(0xcbf2_9ce4_8422_2325);
