@@ -33,17 +33,11 @@ impl Hash {
     }
 
     fn report(&mut self, r: &ShovelReport) {
-        let scalars = [
-            r.duration,
-            r.volume,
-            r.mass,
-            r.fill,
-            r.f1,
-            r.f2,
-            r.objective,
-            r.max_depth,
-        ];
-        scalars.iter().for_each(|&v| self.mix(v));
+        let figures = [r.duration, r.volume, r.mass, r.fill];
+        let objective = [r.f1, r.f2, r.objective, r.max_depth];
+        for v in figures.into_iter().chain(objective) {
+            self.mix(v);
+        }
         for pair in [r.energy, r.peak_speed, r.peak_force, r.peak_power] {
             pair.iter().for_each(|&v| self.mix(v));
         }

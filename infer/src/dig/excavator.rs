@@ -359,14 +359,27 @@ impl JointRecord<'_> {
             DigType::Downward => cfg.dig_angle.downward,
             DigType::Backward => cfg.dig_angle.backward,
         };
-        let per_joint = |quantity, j: usize, range: &Span, lower: f64, upper: f64| Check {
-            quantity,
-            joint: Some(j as u8),
-            min: range.lo(),
-            max: range.hi(),
-            lower: Some(lower),
-            upper: Some(upper),
-            scale: upper - lower,
+        // Checks 0–11: angle, speed, acceleration and torque of joints 1–3.
+        let per_joint = |c: usize| {
+            let j = c % 3;
+            use Quantity::*;
+            let quantity = [JointAngle, JointSpeed, JointAccel, JointTorque][c / 3];
+            let range = [&r.q, &r.qd, &r.qdd, &r.tau][c / 3][j];
+            let [lower, upper] = match c / 3 {
+                0 => [m.joint_min[j], m.joint_max[j]],
+                1 => [-m.max_speed[j], m.max_speed[j]],
+                2 => [-m.max_accel[j], m.max_accel[j]],
+                _ => [-m.max_torque, m.max_torque],
+            };
+            Check {
+                quantity,
+                joint: Some(j as u8),
+                min: range.lo(),
+                max: range.hi(),
+                lower: Some(lower),
+                upper: Some(upper),
+                scale: upper - lower,
+            }
         };
         let interval = |quantity, value: f64, range: [f64; 2]| Check {
             quantity,
@@ -378,34 +391,7 @@ impl JointRecord<'_> {
             scale: range[1] - range[0],
         };
         let mut out = core::array::from_fn(|c| match c {
-            0..=2 => per_joint(
-                Quantity::JointAngle,
-                c,
-                &r.q[c],
-                m.joint_min[c],
-                m.joint_max[c],
-            ),
-            3..=5 => per_joint(
-                Quantity::JointSpeed,
-                c - 3,
-                &r.qd[c - 3],
-                -m.max_speed[c - 3],
-                m.max_speed[c - 3],
-            ),
-            6..=8 => per_joint(
-                Quantity::JointAccel,
-                c - 6,
-                &r.qdd[c - 6],
-                -m.max_accel[c - 6],
-                m.max_accel[c - 6],
-            ),
-            9..=11 => per_joint(
-                Quantity::JointTorque,
-                c - 9,
-                &r.tau[c - 9],
-                -m.max_torque,
-                m.max_torque,
-            ),
+            0..=11 => per_joint(c),
             12 => Check {
                 quantity: Quantity::Power,
                 joint: None,
