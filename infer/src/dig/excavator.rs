@@ -175,6 +175,9 @@ pub(crate) struct JointRecord<'a> {
 }
 
 impl Record<3, JointFrame, f64> for JointRecord<'_> {
+    /// The cutoff's reference is beaten.
+    type Stop = ();
+
     #[inline(always)]
     fn record(&mut self, s: &Step<'_, 3, JointFrame, f64>) {
         let (m, torque, power) = (s.motion, &s.drives.effort, s.power);
@@ -224,20 +227,21 @@ impl Record<3, JointFrame, f64> for JointRecord<'_> {
     /// operands the final report uses, so "bound > reference" implies
     /// "final > reference".
     #[inline(always)]
-    fn stop(&self, k: usize, energy: &f64) -> bool {
-        let Some(c) = self.cutoff else { return false };
+    fn stop(&self, k: usize, energy: &f64) -> Option<()> {
+        let c = self.cutoff?;
         if !k.is_multiple_of(CUTOFF_EVERY) {
-            return false;
+            return None;
         }
         let obj = &self.cfg.objective;
         let [v_min, v_max] = obj.volume;
         let bound = self.checks(self.volume.max(v_min));
         let violation = bound.iter().map(Check::violation).sum::<f64>() + (c.extra)();
-        if c.reference.violation > 0.0 {
+        let worse = if c.reference.violation > 0.0 {
             violation > c.reference.violation
         } else {
             violation > 0.0 || obj.of(self.big_t, *energy, v_max).1 > c.reference.objective
-        }
+        };
+        worse.then_some(())
     }
 }
 
@@ -318,7 +322,7 @@ pub(crate) fn walk(
         };
         on_sample(&sample, &m.frame.links);
     };
-    let Some(energy) = generic(&arm, &mut carving, &mut record, n, big_t, hook)? else {
+    let Ok(energy) = generic(&arm, &mut carving, &mut record, n, big_t, hook)? else {
         return Ok(None);
     };
 

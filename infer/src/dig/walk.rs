@@ -93,12 +93,13 @@ pub trait Material<const N: usize, F> {
 
 /// What a machine keeps of its samples for its checks.
 pub trait Record<const N: usize, F, P> {
+    /// Why a walk stopped early: [`core::convert::Infallible`] for a
+    /// record that never stops one, so its caller needs no such case.
+    type Stop;
     fn record(&mut self, s: &Step<'_, N, F, P>);
-    /// True once the dig so far is certainly worse than what the caller
+    /// `Some` once the dig so far is certainly worse than what the caller
     /// compares it with; asked after every sample with the energy so far.
-    fn stop(&self, _k: usize, _energy: &P) -> bool {
-        false
-    }
+    fn stop(&self, k: usize, energy: &P) -> Option<Self::Stop>;
 }
 
 /// How drive power becomes energy: the metered power (what is integrated)
@@ -163,8 +164,8 @@ pub(crate) fn sample_time(k: usize, n: usize, dt: f64, big_t: f64) -> f64 {
     if k == n - 1 { big_t } else { k as f64 * dt }
 }
 
-/// Walks `n` equal steps of [0, T]: `Ok(Some(energy))` at the end,
-/// `Ok(None)` when the record stopped it.
+/// Walks `n` equal steps of [0, T]: `Ok(Ok(energy))` at the end,
+/// `Ok(Err(stop))` when the record stopped it.
 pub fn walk<const N: usize, A, M, R>(
     arm: &A,
     material: &mut M,
@@ -172,7 +173,7 @@ pub fn walk<const N: usize, A, M, R>(
     n: usize,
     big_t: f64,
     mut on_sample: impl FnMut(&Step<'_, N, A::Frame, Power<N, A>>),
-) -> Result<Option<Power<N, A>>, A::Error>
+) -> Result<Result<Power<N, A>, R::Stop>, A::Error>
 where
     A: ArmPath<N>,
     M: Material<N, A::Frame, Error = A::Error>,
@@ -205,11 +206,11 @@ where
         };
         record.record(&step);
         on_sample(&step);
-        if record.stop(k, &energy) {
-            return Ok(None);
+        if let Some(stop) = record.stop(k, &energy) {
+            return Ok(Err(stop));
         }
     }
-    Ok(Some(energy))
+    Ok(Ok(energy))
 }
 
 /// The range [lo, hi] of a sampled quantity.

@@ -29,6 +29,7 @@ use crate::dig::walk::{
 };
 use crate::math::atan2;
 use crate::pile::PileSurface;
+use core::convert::Infallible;
 
 /// The shovel's pose at a sample: the handle frame and the path point it
 /// was solved from.
@@ -141,6 +142,8 @@ struct HandleRecord {
 }
 
 impl Record<2, ShovelFrame, [f64; 2]> for HandleRecord {
+    type Stop = Infallible;
+
     #[inline(always)]
     fn record(&mut self, s: &Step<'_, 2, ShovelFrame, [f64; 2]>) {
         for i in 0..2 {
@@ -154,6 +157,12 @@ impl Record<2, ShovelFrame, [f64; 2]> for HandleRecord {
         if s.motion.tip[1] > self.top_y {
             (self.top_k, self.top_y) = (s.k, s.motion.tip[1]);
         }
+    }
+
+    /// A shovel dig is always walked to its end.
+    #[inline(always)]
+    fn stop(&self, _k: usize, _energy: &[f64; 2]) -> Option<Infallible> {
+        None
     }
 }
 
@@ -261,8 +270,7 @@ fn walk<const SAMPLES: bool>(
             back_angle: back_angle(s, n),
         });
     };
-    let energy = generic(&arm, &mut pile, &mut rec, n, big_t, hook)?
-        .expect("the shovel's record never stops a walk");
+    let Ok(energy) = generic(&arm, &mut pile, &mut rec, n, big_t, hook)?;
     let HandleRecord {
         speed,
         force,
