@@ -85,8 +85,10 @@ impl ArmPath<3> for JointPath<'_> {
 }
 
 /// The terrain, carved step by step into a caller-owned window.
-pub(crate) struct Carving<'a> {
-    carver: Carver<'a>,
+pub(crate) struct Carving<'a, 'c> {
+    /// Borrowed, not owned: kept apart from the fields below, the optimiser
+    /// holds those in registers across the carving calls.
+    carver: &'c mut Carver<'a>,
     terrain: &'a Terrain,
     machine: &'a Machine,
     soil: &'a Soil,
@@ -96,7 +98,7 @@ pub(crate) struct Carving<'a> {
     lowest: f64,
 }
 
-impl Material<3, JointFrame> for Carving<'_> {
+impl Material<3, JointFrame> for Carving<'_, '_> {
     type Error = Error;
 
     #[inline(always)]
@@ -137,7 +139,7 @@ impl Material<3, JointFrame> for Carving<'_> {
     }
 }
 
-impl Carving<'_> {
+impl Carving<'_, '_> {
     /// Volume carved so far (m³).
     #[inline]
     fn volume(&self) -> f64 {
@@ -271,8 +273,9 @@ pub(crate) fn walk(
         traj: &traj,
         base_x: ground.base_x,
     };
+    let mut carver = Carver::new(terrain, scratch);
     let mut carving = Carving {
-        carver: Carver::new(terrain, scratch),
+        carver: &mut carver,
         terrain,
         machine: m,
         soil: &cfg.soil,
