@@ -1,7 +1,7 @@
 //! One dig, evaluated with the exact model: every figure of spec §6, the
 //! normalised objective and a per-constraint report.
 //!
-//! The evaluation is the generic dig walk ([`walk`]) every arm shares,
+//! The evaluation is the generic dig walk ([`walk`](mod@walk)) every arm shares,
 //! with the excavator's pieces (`excavator.rs`): at each sample it advances
 //! the trajectory, carves the step the tooth tip just swept (so the load in
 //! the bucket grows as material is cut), applies the resistance of the
