@@ -3,6 +3,11 @@
 //! the rope shovel's revolute–prismatic handle
 //! ([`crate::rope_shovel::RopeShovel`]).
 //!
+//! The dig walk ([`dig::walk`](mod@crate::dig::walk)) asks an arm per sample through
+//! [`crate::dig::walk::ArmPath`] instead, on a pose computed once and with
+//! each machine's own arithmetic (the excavator's torques whole, not
+//! motion + static), so its numbers stay those of the evaluation.
+//!
 //! Joint coordinates q are the machine's own (rad for revolute joints, m
 //! for prismatic ones); drive effort and drive speed are in the drives'
 //! own terms (N·m and rad/s for the excavator's joint drives, N and m/s for

@@ -14,7 +14,7 @@
 //! | [`resistance`] | `resistance.rs` |
 //! | [`dynamics`] | `dynamics.rs` |
 //! | [`volume`] | `terrain.rs` (carving) — **a surrogate**, see below |
-//! | [`dig`] | `dig.rs` (figures, checks, objective, dig angle) |
+//! | [`dig`] | `dig/` (figures and checks in `excavator.rs`, objective and dig angle in `mod.rs`) |
 //! | [`losses`] | spec §8 (no counterpart in `infer`) |
 //!
 //! Deliberate differences from `infer`, all small and named where they occur:

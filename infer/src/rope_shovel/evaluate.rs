@@ -18,47 +18,168 @@
 
 use super::ShovelError;
 use super::dynamics::{Rope, generalised_effort, tip_resistance};
-use super::kinematics::inverse;
+use super::kinematics::{HandleFrame, inverse};
 use super::params::ShovelParams;
-use super::path::{DigVars, Path};
+use super::path::{DigVars, Path, PathPoint};
 use super::report::{Constraint, SHOVEL_CHECKS, ShovelCheck, ShovelReport, ShovelSample};
 use super::volume::Sections;
+use crate::dig::walk::{
+    ArmPath, Cut, Drives, Material, Motion, Range, Record, SignedPerDrive, Step, Track,
+    walk as generic,
+};
 use crate::math::atan2;
 use crate::pile::PileSurface;
+use core::convert::Infallible;
 
-/// Range of a sampled quantity, its peaks refined between samples.
-#[derive(Clone, Copy)]
-struct Track {
-    last: [f64; 2],
-    n: usize,
-    lo: f64,
-    hi: f64,
+/// The shovel's pose at a sample: the handle frame and the path point it
+/// was solved from.
+#[derive(Debug, Clone, Copy)]
+pub struct ShovelFrame {
+    pub handle: HandleFrame,
+    pub point: PathPoint,
 }
 
-impl Track {
-    const EMPTY: Track = Track {
-        last: [0.0; 2],
-        n: 0,
-        lo: f64::INFINITY,
-        hi: f64::NEG_INFINITY,
-    };
+/// The handle along the Cartesian path, through inverse kinematics.
+struct HandlePath<'a> {
+    p: &'a ShovelParams,
+    path: Path,
+}
 
-    #[inline]
-    fn push(&mut self, v: f64) {
-        self.lo = self.lo.min(v);
-        self.hi = self.hi.max(v);
-        if self.n >= 2 {
-            let [a, b] = self.last;
-            let den = a - 2.0 * b + v;
-            if den != 0.0 && ((b >= a && b >= v) || (b <= a && b <= v)) {
-                let vertex = b - (v - a) * (v - a) / (8.0 * den);
-                self.lo = self.lo.min(vertex);
-                self.hi = self.hi.max(vertex);
-            }
-        }
-        self.last = [self.last[1], v];
-        self.n += 1;
+impl ArmPath<2> for HandlePath<'_> {
+    type Frame = ShovelFrame;
+    type Error = ShovelError;
+    type Metering = SignedPerDrive;
+
+    #[inline(always)]
+    fn at(&self, t: f64) -> Result<Motion<2, ShovelFrame>, ShovelError> {
+        let p = self.p;
+        let pt = self.path.at(t);
+        let handle = inverse(p, base(p, pt.p))?;
+        let qd = handle.rates(p, pt.v);
+        let qdd = handle.accels(p, &qd, pt.a);
+        Ok(Motion {
+            t,
+            frame: ShovelFrame { handle, point: pt },
+            qd,
+            qdd,
+            tip: pt.p,
+            tip_velocity: pt.v,
+        })
     }
+
+    /// Hoist and crowd forces (of the total generalised effort) and speeds.
+    #[inline(always)]
+    fn drives(
+        &self,
+        m: &Motion<2, ShovelFrame>,
+        load: f64,
+        f_tip: [f64; 2],
+    ) -> Result<Drives<2>, ShovelError> {
+        let (p, frame) = (self.p, &m.frame.handle);
+        let rope = Rope::new(p, frame)?;
+        let (motion, stat) = generalised_effort(p, frame, &m.qd, &m.qdd, load, f_tip);
+        Ok(Drives {
+            effort: rope.drive_forces(&[motion[0] + stat[0], motion[1] + stat[1]]),
+            speed: rope.drive_speeds(&m.qd),
+        })
+    }
+}
+
+/// The perceived pile, the dug volume integrated over time from the cut
+/// area across the dipper.
+struct Pile<'a> {
+    p: &'a ShovelParams,
+    sections: Sections,
+    volume: f64,
+    prev_rate: f64,
+    /// The surface's heights across the dipper at the latest sample.
+    heights: [f64; 5],
+}
+
+impl Material<2, ShovelFrame> for Pile<'_> {
+    type Error = ShovelError;
+
+    #[inline(always)]
+    fn cut(&mut self, k: usize, dt: f64, m: &Motion<2, ShovelFrame>) -> Result<Cut, ShovelError> {
+        let heights = self.sections.heights(m.tip[0])?;
+        let depth = (heights[4] - m.tip[1]).max(0.0);
+        let rate = self.sections.cut_area(&heights, m.tip[1]) * m.tip_velocity[0];
+        if k > 0 {
+            self.volume += 0.5 * (self.prev_rate + rate) * dt;
+        }
+        self.prev_rate = rate;
+        self.heights = heights;
+        Ok(Cut {
+            depth,
+            volume: self.volume,
+        })
+    }
+
+    #[inline(always)]
+    fn resistance(&self, depth: f64, tip_velocity: [f64; 2]) -> [f64; 2] {
+        tip_resistance(self.p, depth, tip_velocity)
+    }
+
+    #[inline(always)]
+    fn density(&self) -> f64 {
+        self.p.density
+    }
+}
+
+/// What the shovel keeps of its samples.
+struct HandleRecord {
+    n: usize,
+    speed: [Track; 2],
+    force: [Track; 2],
+    power: [Track; 2],
+    /// Back angle ψ and extension d.
+    psi: Track,
+    ext: Track,
+    max_depth: f64,
+    /// The highest tip sample and its height (pile frame, m).
+    top_k: usize,
+    top_y: f64,
+}
+
+impl Record<2, ShovelFrame, [f64; 2]> for HandleRecord {
+    type Stop = Infallible;
+
+    #[inline(always)]
+    fn record(&mut self, s: &Step<'_, 2, ShovelFrame, [f64; 2]>) {
+        for i in 0..2 {
+            self.speed[i].push(s.drives.speed[i]);
+            self.force[i].push(s.drives.effort[i]);
+            self.power[i].push(s.power[i]);
+        }
+        self.psi.push(back_angle(s, self.n));
+        self.ext.push(s.motion.frame.handle.d);
+        self.max_depth = self.max_depth.max(s.cut.depth);
+        if s.motion.tip[1] > self.top_y {
+            (self.top_k, self.top_y) = (s.k, s.motion.tip[1]);
+        }
+    }
+
+    /// A shovel dig is always walked to its end.
+    #[inline(always)]
+    fn stop(&self, _k: usize, _energy: &[f64; 2]) -> Option<Infallible> {
+        None
+    }
+}
+
+/// The back angle ψ (rad) of the tip's direction of motion in the handle
+/// frame; at rest (the ends) the direction is the jerk's.
+#[inline(always)]
+fn back_angle(s: &Step<'_, 2, ShovelFrame, [f64; 2]>, n: usize) -> f64 {
+    let (frame, pt) = (&s.motion.frame.handle, &s.motion.frame.point);
+    let dir = if s.k == 0 || s.k == n - 1 { pt.j } else { pt.v };
+    let [dr, dp] = frame.components(dir);
+    atan2(dp, dr)
+}
+
+/// The base frame's point at `q` in the pile frame.
+#[inline(always)]
+fn base(p: &ShovelParams, q: [f64; 2]) -> [f64; 2] {
+    [p.toe[0] + q[0], p.toe[1] + q[1]]
 }
 
 /// Evaluates one dig of `vars` on `surface`.
@@ -81,8 +202,9 @@ pub fn evaluate_with(
     walk::<true>(p, surface, vars, on_sample)
 }
 
-/// The evaluation; the samples (and the handle angle θ only they need)
-/// are formed when `SAMPLES` is set.
+/// The evaluation on the generic walk; the samples (and the handle angle
+/// θ only they need) are formed when `SAMPLES` is set (a no-op hook alone
+/// would not spare the atan2s: the optimiser keeps libm calls).
 fn walk<const SAMPLES: bool>(
     p: &ShovelParams,
     surface: &PileSurface,
@@ -92,9 +214,8 @@ fn walk<const SAMPLES: bool>(
     p.validate().map_err(ShovelError::BadParams)?;
     let path = Path::new(vars)?;
     let sections = Sections::new(surface, p.lane_y, p.dipper_width)?;
-    let base = |q: [f64; 2]| [p.toe[0] + q[0], p.toe[1] + q[1]];
     let [gx, gy] = vars.goal;
-    let end = inverse(p, base(vars.goal))?;
+    let end = inverse(p, base(p, vars.goal))?;
     if end.d > p.max_extension {
         return Err(ShovelError::GoalOutOfReach {
             gx,
@@ -111,73 +232,58 @@ fn walk<const SAMPLES: bool>(
     let big_t = vars.duration;
     let n = p.time_samples;
     let dt = big_t / (n - 1) as f64;
-    let mut speed = [Track::EMPTY; 2];
-    let mut force = [Track::EMPTY; 2];
-    let mut power = [Track::EMPTY; 2];
-    let (mut psi, mut ext) = (Track::EMPTY, Track::EMPTY);
-    let (mut energy, mut prev_power) = ([0.0; 2], [0.0; 2]);
-    let (mut volume, mut prev_rate) = (0.0, 0.0);
-    let (mut max_depth, mut top_k, mut top_y) = (0.0f64, 0, f64::NEG_INFINITY);
-    let mut end_heights = [0.0; 5];
-
-    for k in 0..n {
-        let t = if k == n - 1 { big_t } else { k as f64 * dt };
-        let pt = path.at(t);
-        let frame = inverse(p, base(pt.p))?;
-        let qd = frame.rates(p, pt.v);
-        let qdd = frame.accels(p, &qd, pt.a);
-        let heights = sections.heights(pt.p[0])?;
-        let depth = (heights[4] - pt.p[1]).max(0.0);
-        let rate = sections.cut_area(&heights, pt.p[1]) * pt.v[0];
-        if k > 0 {
-            volume += 0.5 * (prev_rate + rate) * dt;
+    let arm = HandlePath { p, path };
+    let mut pile = Pile {
+        p,
+        sections,
+        volume: 0.0,
+        prev_rate: 0.0,
+        heights: [0.0; 5],
+    };
+    let mut rec = HandleRecord {
+        n,
+        speed: [Track::EMPTY; 2],
+        force: [Track::EMPTY; 2],
+        power: [Track::EMPTY; 2],
+        psi: Track::EMPTY,
+        ext: Track::EMPTY,
+        max_depth: 0.0,
+        top_k: 0,
+        top_y: f64::NEG_INFINITY,
+    };
+    let hook = |s: &Step<'_, 2, ShovelFrame, [f64; 2]>| {
+        if !SAMPLES {
+            return;
         }
-        prev_rate = rate;
-        let resistance = tip_resistance(p, depth, pt.v);
-        let rope = Rope::new(p, &frame)?;
-        let (motion, stat) =
-            generalised_effort(p, &frame, &qd, &qdd, p.density * volume, resistance);
-        let drive = rope.drive_forces(&[motion[0] + stat[0], motion[1] + stat[1]]);
-        let v = rope.drive_speeds(&qd);
-        let pw = [drive[0] * v[0], drive[1] * v[1]];
-        for i in 0..2 {
-            if k > 0 {
-                energy[i] += 0.5 * (prev_power[i] + pw[i]) * dt;
-            }
-            speed[i].push(v[i]);
-            force[i].push(drive[i]);
-            power[i].push(pw[i]);
-        }
-        prev_power = pw;
-        // At rest (the ends) the direction of motion is the jerk's.
-        let dir = if k == 0 || k == n - 1 { pt.j } else { pt.v };
-        let [dr, dp] = frame.components(dir);
-        let back_angle = atan2(dp, dr);
-        psi.push(back_angle);
-        ext.push(frame.d);
-        max_depth = max_depth.max(depth);
-        if pt.p[1] > top_y {
-            (top_k, top_y) = (k, pt.p[1]);
-        }
-        if k == n - 1 {
-            end_heights = heights;
-        }
-        if SAMPLES {
-            on_sample(&ShovelSample {
-                t,
-                tip: pt.p,
-                q: [frame.theta(), frame.d],
-                qd,
-                depth,
-                resistance,
-                speed: v,
-                force: drive,
-                power: pw,
-                volume,
-                back_angle,
-            });
-        }
-    }
+        let m = s.motion;
+        on_sample(&ShovelSample {
+            t: m.t,
+            tip: m.tip,
+            q: [m.frame.handle.theta(), m.frame.handle.d],
+            qd: m.qd,
+            depth: s.cut.depth,
+            resistance: s.force,
+            speed: s.drives.speed,
+            force: s.drives.effort,
+            power: s.power,
+            volume: s.cut.volume,
+            back_angle: back_angle(s, n),
+        });
+    };
+    let Ok(energy) = generic(&arm, &mut pile, &mut rec, n, big_t, hook)?;
+    let HandleRecord {
+        speed,
+        force,
+        power,
+        psi,
+        ext,
+        max_depth,
+        top_k,
+        top_y,
+        ..
+    } = rec;
+    let (volume, end_heights) = (pile.volume, pile.heights);
+    let path = arm.path;
 
     let top_y = highest_tip(&path, top_k as f64 * dt, dt, big_t, top_y) + p.toe[1];
     let mass = p.density * volume;
@@ -190,7 +296,7 @@ fn walk<const SAMPLES: bool>(
     // The dipper's lowest corner at the end: behind the tip along the
     // handle and below the tooth line across it.
     let [along, across] = p.dipper_box;
-    let tip_end = base(vars.goal);
+    let tip_end = base(p, vars.goal);
     let lowest = [0.0, along]
         .iter()
         .flat_map(|a| [0.0, across].map(|c| tip_end[1] - a * end.e_r[1] - c * end.e_p[1]))
@@ -207,8 +313,8 @@ fn walk<const SAMPLES: bool>(
     let span = |r: [f64; 2]| r[1] - r[0];
     let ranged = |c, t: &Track, lower: Option<f64>, upper: Option<f64>, scale: f64| ShovelCheck {
         constraint: c,
-        min: t.lo,
-        max: t.hi,
+        min: t.lo(),
+        max: t.hi(),
         lower,
         upper,
         scale,
@@ -295,7 +401,7 @@ fn walk<const SAMPLES: bool>(
             p.dipper_box[1],
         ),
     ];
-    let peak = |t: &[Track; 2]| core::array::from_fn(|i| t[i].lo.abs().max(t[i].hi.abs()));
+    let peak = |t: &[Track; 2]| core::array::from_fn(|i| t[i].peak());
     Ok(ShovelReport {
         duration: big_t,
         volume,
