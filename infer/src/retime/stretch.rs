@@ -5,7 +5,7 @@
 //! cannot change, how power is metered, the objective, the duration range)
 //! comes through [`Stretchable`].
 
-use crate::dig::walk::Metering;
+use crate::dig::walk::{Metering, Range, Track};
 
 /// Limits are aimed at this fraction inside their bounds, so the rounding
 /// between the record's prediction and the exact check cannot cross them.
@@ -76,6 +76,10 @@ pub type Metered<const N: usize, M> = <<M as Stretchable<N>>::Metering as Meteri
 pub trait Stretchable<const N: usize> {
     /// How the machine meters drive power into energy (as its evaluation does).
     type Metering: Metering<N>;
+    /// Whether the machine's checks refine each drive's effort and power
+    /// peaks between samples ([`Track`]); the prediction then does too, or
+    /// a stretch to a rating would fail its exact check.
+    const TRACKED: bool = false;
     /// The recorded dig's duration (s).
     fn duration(&self) -> f64;
     /// Whether the checks a stretch cannot change (path, volume, …) hold.
@@ -208,7 +212,9 @@ fn golden(at: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, best: (f64, f64)) ->
 }
 
 /// The objective the record predicts at stretch `k`, or infinity when an
-/// effort or power limit would break at a sample.
+/// effort or power limit would break at a sample (or between samples,
+/// for a [`Stretchable::TRACKED`] machine; the total power is held at
+/// the samples only).
 pub fn predict<const N: usize, M: Stretchable<N>>(dig: &M, records: &[Sample<N>], k: f64) -> f64 {
     let x = 1.0 / (k * k);
     let inside = 1.0 - SAFETY;
@@ -223,6 +229,7 @@ pub fn predict<const N: usize, M: Stretchable<N>>(dig: &M, records: &[Sample<N>]
     let dt = duration / (records.len() - 1) as f64;
     let mut energy = M::Metering::ZERO;
     let mut prev = M::Metering::ZERO;
+    let mut tracks = [[Track::EMPTY; 2]; N];
     for (j, s) in records.iter().enumerate() {
         let mut per_drive = [0.0; N];
         let mut total = 0.0;
@@ -237,6 +244,10 @@ pub fn predict<const N: usize, M: Stretchable<N>>(dig: &M, records: &[Sample<N>]
             }
             total += p.abs();
             per_drive[i] = p;
+            if M::TRACKED {
+                tracks[i][0].push(e);
+                tracks[i][1].push(p);
+            }
         }
         if total > max_total {
             return f64::INFINITY;
@@ -246,6 +257,13 @@ pub fn predict<const N: usize, M: Stretchable<N>>(dig: &M, records: &[Sample<N>]
             M::Metering::integrate(&mut energy, &prev, &now, dt);
         }
         prev = now;
+    }
+    let between = |i: usize| {
+        let [e, p] = &tracks[i];
+        e.lo() < effort[i][0] || e.hi() > effort[i][1] || p.peak() > max_power[i]
+    };
+    if M::TRACKED && (0..N).any(between) {
+        return f64::INFINITY;
     }
     dig.objective_at(duration * k, &energy)
 }
