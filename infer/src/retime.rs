@@ -27,6 +27,10 @@
 //! limits in continuous time. The record holds torque at the samples
 //! only; where the finer grid between them finds more, the exact check
 //! rejects the stretch and the dig is kept as it was.
+//!
+//! The record and the search know no machine ([`Sample`], [`search`],
+//! [`Stretchable`]): this module is the excavator's use of them,
+//! [`crate::rope_shovel::retime()`] the rope shovel's.
 
 mod stretch;
 

@@ -105,7 +105,7 @@ pub struct Stretch {
 /// The stretches [lo, hi] a dig of this duration, duration range and
 /// these peak drive speeds (and accelerations, if limited) may take:
 /// speeds, accelerations and the shortest duration bound k from below
-/// exactly, the longest from above, each aimed [`SAFETY`] inside. Empty
+/// exactly, the longest from above, each aimed 10⁻⁷ inside. Empty
 /// (lo > hi, or NaN) when none keeps them all.
 pub fn stretch_range<const N: usize>(
     duration: f64,
