@@ -37,7 +37,7 @@ fn gwo_optima_are_kept_or_improved() {
             if let Some(best) = best {
                 let exact = rope_shovel::evaluate(&p, &surface, &stretch(&vars, best.k)).unwrap();
                 let err = (best.objective - exact.objective).abs() / exact.objective;
-                assert!(err <= 1e-9, "{shape:?} seed {seed}: rel. error {err:e}");
+                assert!(err <= 1e-12, "{shape:?} seed {seed}: rel. error {err:e}");
             }
             let r = retime(&p, &surface, &vars, &mut work).unwrap();
             println!(

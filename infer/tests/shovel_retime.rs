@@ -15,7 +15,7 @@ use infer::rope_shovel::{
 /// Relative tolerance of the record's predicted objective against the
 /// exact evaluation at the same stretch (rounding only: the dug volume is
 /// integrated on the stretched grid).
-const PREDICTION: f64 = 1e-9;
+const PREDICTION: f64 = 1e-12;
 
 fn piles() -> [PileSurface; 2] {
     [
