@@ -27,8 +27,19 @@
 //! limits in continuous time. The record holds torque at the samples
 //! only; where the finer grid between them finds more, the exact check
 //! rejects the stretch and the dig is kept as it was.
+//!
+//! The record and the search know no machine ([`Sample`], [`search`],
+//! [`Stretchable`]): this module is the excavator's use of them,
+//! [`crate::rope_shovel::retime()`] the rope shovel's.
+
+mod stretch;
+
+pub use stretch::{
+    DriveLimits, Metered, Records, Sample, Stretch, Stretchable, predict, search, stretch_range,
+};
 
 use crate::config::Config;
+use crate::dig::walk::AbsoluteTotal;
 use crate::dig::{DigReport, DigTask, Ground, Quantity, kinematic_peaks};
 use crate::dynamics::static_torque;
 use crate::error::Error;
@@ -41,47 +52,9 @@ use crate::trajectory::DigParams;
 /// digs on finer grids are not retimed.
 pub const MAX_RETIME_SAMPLES: usize = 513;
 
-/// Limits are aimed at this fraction inside their bounds, so the rounding
-/// between the record's prediction and the exact check cannot cross them.
-const SAFETY: f64 = 1e-7;
-/// Stretches tried evenly over the allowed range before the golden search.
-const SCAN: usize = 5;
-/// Where the objective is probed just above the fastest allowed stretch,
-/// as a fraction of a scan step.
-const RISE: f64 = 1e-3;
-/// Golden-section steps between the best scanned stretch's neighbours
-/// (the bracket shrinks to 0.618²⁰ ≈ 7·10⁻⁵ of two scan steps).
-const GOLDEN: usize = 20;
-
-/// One sample of the record: torque = motion / k² + fixed.
-#[derive(Debug, Clone, Copy, Default)]
-struct Record {
-    motion: [f64; 3],
-    fixed: [f64; 3],
-    /// |q̇_i| at k = 1.
-    speed: [f64; 3],
-}
-
-/// The per-sample record of the dig being retimed (about 37 kB; callers
-/// own it, so retiming never allocates).
-#[derive(Clone)]
-pub struct RetimeWork {
-    records: [Record; MAX_RETIME_SAMPLES],
-}
-
-impl Default for RetimeWork {
-    fn default() -> Self {
-        RetimeWork {
-            records: [Record::default(); MAX_RETIME_SAMPLES],
-        }
-    }
-}
-
-impl core::fmt::Debug for RetimeWork {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.write_str("RetimeWork")
-    }
-}
+/// The per-sample record of the excavator dig being retimed (about 37 kB;
+/// callers own it, so retiming never allocates).
+pub type RetimeWork = Records<3, MAX_RETIME_SAMPLES>;
 
 /// A dig after retiming.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -93,13 +66,6 @@ pub struct Retimed {
     pub stretch: f64,
     /// Exact evaluations spent (2 when stretched, 1 or 3 when kept).
     pub evaluations: usize,
-}
-
-/// The best stretch found on the record, and the objective it predicts.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Stretch {
-    pub k: f64,
-    pub objective: f64,
 }
 
 /// `params` stretched to the k of lowest objective that keeps every limit
@@ -185,7 +151,13 @@ pub fn best_stretch(
         return Ok((assess(cfg, task, params, ground, scratch, guard)?, None));
     }
     let a = record(cfg, task, params, ground, scratch, guard, work)?;
-    let stretch = search(cfg, &a, guard, params.duration, &work.records[..n], false);
+    let dig = Dig {
+        cfg,
+        a: &a,
+        guard,
+        duration: params.duration,
+    };
+    let stretch = search(&dig, &work.samples[..n], false);
     Ok((a, stretch))
 }
 
@@ -227,38 +199,38 @@ pub fn record_fastest(
 ) -> Result<Recorded, Error> {
     let n = cfg.time_samples;
     let (speed, accel) = kinematic_peaks(cfg, task, params)?;
-    let (lo, hi) = stretch_range(cfg, params.duration, &speed, &accel);
+    let (lo, hi) = excavator_range(cfg, params.duration, &speed, &accel);
     let k = if n <= MAX_RETIME_SAMPLES && lo <= hi {
         lo
     } else {
         1.0
     };
     let fastest = rescale(params, k);
-    let (a, further) = if k == 1.0 {
-        best_stretch(cfg, task, params, ground, scratch, guard, work)?
-    } else {
-        let a = record(cfg, task, &fastest, ground, scratch, guard, work)?;
-        let further = search(cfg, &a, guard, fastest.duration, &work.records[..n], true);
-        (a, further)
+    if k == 1.0 {
+        let (a, further) = best_stretch(cfg, task, params, ground, scratch, guard, work)?;
+        return Ok(Recorded {
+            params: fastest,
+            k,
+            assessment: a,
+            further,
+            original_feasible: a.feasible,
+        });
+    }
+    let a = record(cfg, task, &fastest, ground, scratch, guard, work)?;
+    let dig = Dig {
+        cfg,
+        a: &a,
+        guard,
+        duration: fastest.duration,
     };
+    let records = &work.samples[..n];
+    let further = search(&dig, records, true);
     let m = &cfg.machine;
     let [t_min, t_max] = cfg.objective.duration;
     let kinematics_ok = (0..3).all(|i| speed[i] <= m.max_speed[i] && accel[i] <= m.max_accel[i])
         && (t_min..=t_max).contains(&params.duration);
-    let original_feasible = if k == 1.0 {
-        a.feasible
-    } else {
-        kinematics_ok
-            && stretchable(&a, guard)
-            && predict(
-                cfg,
-                &a.report,
-                fastest.duration,
-                &work.records[..n],
-                1.0 / k,
-            )
-            .is_finite()
-    };
+    let original_feasible =
+        kinematics_ok && stretchable(&a, guard) && predict(&dig, records, 1.0 / k).is_finite();
     Ok(Recorded {
         params: fastest,
         k,
@@ -284,7 +256,7 @@ fn record(
     assess_framed(cfg, task, params, ground, scratch, guard, |s, frames| {
         let load = cfg.soil.density * s.volume;
         let fixed = static_torque(m, frames, load, s.force);
-        work.records[k] = Record {
+        work.samples[k] = Sample {
             motion: core::array::from_fn(|i| s.torque[i] - fixed[i]),
             fixed,
             speed: s.joints.qd.map(f64::abs),
@@ -310,140 +282,70 @@ fn stretchable(a: &Assessment, guard: Option<&DesignGuard>) -> bool {
     fixed_ok && guard.is_none_or(|g| g.violation(&a.over_dig) == 0.0)
 }
 
-/// The stretches [lo, hi] a dig of this duration and these peak speeds
-/// and accelerations may take: speeds, accelerations and the shortest
-/// duration bound k from below exactly, the longest from above, each aimed
-/// [`SAFETY`] inside. Empty (lo > hi, or NaN) when none keeps them all.
-fn stretch_range(cfg: &Config, duration: f64, speed: &[f64; 3], accel: &[f64; 3]) -> (f64, f64) {
-    let m = &cfg.machine;
-    let [t_min, t_max] = cfg.objective.duration;
-    let inside = 1.0 - SAFETY;
-    let mut lo = t_min * (1.0 + SAFETY) / duration;
-    for i in 0..3 {
-        lo = lo.max(speed[i] / (m.max_speed[i] * inside));
-        lo = lo.max(libm::sqrt(accel[i] / (m.max_accel[i] * inside)));
-    }
-    (lo, t_max * inside / duration)
-}
-
-/// The best stretch on the record, if it predicts a lower objective than
-/// the dig has (or makes an infeasible dig feasible); none if a limit a
-/// stretch cannot change breaks ([`stretchable`]). `slower_only`: the dig
-/// is at its fastest already, so only k > 1 is searched, and the dig
-/// itself is kept when nothing slower does better.
-fn search(
-    cfg: &Config,
-    a: &Assessment,
-    guard: Option<&DesignGuard>,
+/// An excavator dig as the stretch search sees it.
+struct Dig<'a> {
+    cfg: &'a Config,
+    a: &'a Assessment,
+    guard: Option<&'a DesignGuard>,
     duration: f64,
-    records: &[Record],
-    slower_only: bool,
-) -> Option<Stretch> {
-    if !stretchable(a, guard) {
-        return None;
-    }
-    let r = &a.report;
-    let (mut lo, hi) = stretch_range(cfg, duration, &r.peak_speed, &r.peak_accel);
-    if slower_only {
-        lo = lo.max(1.0);
-    }
-    if lo.is_nan() || lo > hi {
-        return None;
-    }
-    // At its fastest, the dig is compared as the record predicts it, so
-    // the record's rounding (10⁻⁹) cannot make k = 1 look better than the
-    // dig itself.
-    let here = slower_only.then(|| predict(cfg, r, duration, records, 1.0));
-    let at = |k: f64| match here {
-        Some(f) if k == 1.0 => f,
-        _ => predict(cfg, r, duration, records, k),
-    };
-    // A scan, then a golden-section search between the best point's
-    // neighbours, unless the best is the fastest stretch the speed and
-    // acceleration limits allow and the objective rises from there (the
-    // usual case: there, time saved outweighs the energy it costs).
-    let step = (hi - lo) / (SCAN - 1) as f64;
-    let scanned = (0..SCAN).map(|j| {
-        let k = if j == SCAN - 1 {
-            hi
-        } else {
-            lo + j as f64 * step
-        };
-        (k, at(k))
-    });
-    let (k0, f0) = scanned.fold(
-        (lo, f64::INFINITY),
-        |b, (k, f)| if f < b.1 { (k, f) } else { b },
-    );
-    if !f0.is_finite() {
-        return None;
-    }
-    let rises = k0 == lo && at(lo + RISE * step) >= f0;
-    let best = if rises || step == 0.0 {
-        (k0, f0)
-    } else {
-        golden(&at, (k0 - step).max(lo), (k0 + step).min(hi), (k0, f0))
-    };
-    let better = !a.feasible || best.1 < here.unwrap_or(r.objective);
-    better.then_some(Stretch {
-        k: best.0,
-        objective: best.1,
-    })
 }
 
-/// The lowest of `at` found by golden-section steps on [a, b], or `best`.
-fn golden(at: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, best: (f64, f64)) -> (f64, f64) {
-    let g = 0.5 * (libm::sqrt(5.0) - 1.0);
-    let mut c = b - g * (b - a);
-    let mut d = a + g * (b - a);
-    let (mut fc, mut fd) = (at(c), at(d));
-    for _ in 0..GOLDEN {
-        if fc <= fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - g * (b - a);
-            fc = at(c);
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + g * (b - a);
-            fd = at(d);
-        }
+impl Dig<'_> {
+    fn report(&self) -> &DigReport {
+        &self.a.report
     }
-    [(c, fc), (d, fd)]
-        .into_iter()
-        .fold(best, |b, p| if p.1 < b.1 { p } else { b })
 }
 
-/// The objective the record predicts at stretch `k`, or infinity when a
-/// torque or power limit would break.
-fn predict(cfg: &Config, r: &DigReport, duration: f64, records: &[Record], k: f64) -> f64 {
-    let x = 1.0 / (k * k);
-    let inside = 1.0 - SAFETY;
-    let (torque, power) = drive_limits(cfg);
-    let (max_torque, max_h) = (torque * inside, power * inside * k);
-    let dt = duration / (records.len() - 1) as f64;
-    let (mut energy, mut prev) = (0.0, 0.0);
-    for (j, s) in records.iter().enumerate() {
-        // h = Σ |τ_i θ̇_i| at k = 1 speeds: the power at k is h / k, and
-        // the energy Σ ½ (h + h') dt, as the stretched time step cancels 1/k.
-        let mut h = 0.0;
-        for i in 0..3 {
-            let tau = s.motion[i] * x + s.fixed[i];
-            if tau.abs() > max_torque {
-                return f64::INFINITY;
-            }
-            h += (tau * s.speed[i]).abs();
-        }
-        if h > max_h {
-            return f64::INFINITY;
-        }
-        if j > 0 {
-            energy += 0.5 * (prev + h) * dt;
-        }
-        prev = h;
+impl Stretchable<3> for Dig<'_> {
+    type Metering = AbsoluteTotal;
+
+    fn duration(&self) -> f64 {
+        self.duration
     }
-    cfg.objective.of(duration * k, energy, r.volume).1
+
+    fn unchanged_ok(&self) -> bool {
+        stretchable(self.a, self.guard)
+    }
+
+    fn feasible(&self) -> bool {
+        self.a.feasible
+    }
+
+    fn objective(&self) -> f64 {
+        self.report().objective
+    }
+
+    fn range(&self) -> (f64, f64) {
+        let r = self.report();
+        excavator_range(self.cfg, self.duration, &r.peak_speed, &r.peak_accel)
+    }
+
+    fn drive_limits(&self) -> DriveLimits<3> {
+        let (torque, power) = drive_limits(self.cfg);
+        DriveLimits {
+            effort: [[-torque, torque]; 3],
+            power: [f64::INFINITY; 3],
+            total_power: power,
+        }
+    }
+
+    #[inline]
+    fn objective_at(&self, duration: f64, energy: &f64) -> f64 {
+        self.cfg
+            .objective
+            .of(duration, *energy, self.report().volume)
+            .1
+    }
+}
+
+/// [`stretch_range`] under the excavator's joint speed, acceleration and
+/// duration limits.
+fn excavator_range(cfg: &Config, duration: f64, speed: &[f64; 3], accel: &[f64; 3]) -> (f64, f64) {
+    let m = &cfg.machine;
+    stretch_range(
+        duration,
+        cfg.objective.duration,
+        [speed, &m.max_speed],
+        Some([accel, &m.max_accel]),
+    )
 }

@@ -188,7 +188,7 @@ pub fn evaluate(
     surface: &PileSurface,
     vars: &DigVars,
 ) -> Result<ShovelReport, ShovelError> {
-    walk::<false>(p, surface, vars, |_| {})
+    walk(p, surface, vars, |_| {})
 }
 
 /// [`evaluate`], calling `on_sample` at every time sample (for plots, logs
@@ -197,19 +197,38 @@ pub fn evaluate_with(
     p: &ShovelParams,
     surface: &PileSurface,
     vars: &DigVars,
-    on_sample: impl FnMut(&ShovelSample),
+    mut on_sample: impl FnMut(&ShovelSample),
 ) -> Result<ShovelReport, ShovelError> {
-    walk::<true>(p, surface, vars, on_sample)
+    let n = p.time_samples;
+    walk(p, surface, vars, |s| {
+        let m = s.motion;
+        on_sample(&ShovelSample {
+            t: m.t,
+            tip: m.tip,
+            q: [m.frame.handle.theta(), m.frame.handle.d],
+            qd: m.qd,
+            depth: s.cut.depth,
+            resistance: s.force,
+            speed: s.drives.speed,
+            force: s.drives.effort,
+            power: s.power,
+            volume: s.cut.volume,
+            back_angle: back_angle(s, n),
+        })
+    })
 }
 
-/// The evaluation on the generic walk; the samples (and the handle angle
-/// θ only they need) are formed when `SAMPLES` is set (a no-op hook alone
-/// would not spare the atan2s: the optimiser keeps libm calls).
-fn walk<const SAMPLES: bool>(
+/// One step of the shovel's walk, as [`walk`] hands it to its hook.
+pub(crate) type ShovelStep<'a> = Step<'a, 2, ShovelFrame, [f64; 2]>;
+
+/// The evaluation on the generic walk, calling `on_step` at every sample
+/// (the samples, and the handle angle θ only they need, are formed by
+/// the hook that wants them, so [`evaluate`] spends no atan2 on them).
+pub(crate) fn walk(
     p: &ShovelParams,
     surface: &PileSurface,
     vars: &DigVars,
-    mut on_sample: impl FnMut(&ShovelSample),
+    on_step: impl FnMut(&ShovelStep<'_>),
 ) -> Result<ShovelReport, ShovelError> {
     p.validate().map_err(ShovelError::BadParams)?;
     let path = Path::new(vars)?;
@@ -251,26 +270,7 @@ fn walk<const SAMPLES: bool>(
         top_k: 0,
         top_y: f64::NEG_INFINITY,
     };
-    let hook = |s: &Step<'_, 2, ShovelFrame, [f64; 2]>| {
-        if !SAMPLES {
-            return;
-        }
-        let m = s.motion;
-        on_sample(&ShovelSample {
-            t: m.t,
-            tip: m.tip,
-            q: [m.frame.handle.theta(), m.frame.handle.d],
-            qd: m.qd,
-            depth: s.cut.depth,
-            resistance: s.force,
-            speed: s.drives.speed,
-            force: s.drives.effort,
-            power: s.power,
-            volume: s.cut.volume,
-            back_angle: back_angle(s, n),
-        });
-    };
-    let Ok(energy) = generic(&arm, &mut pile, &mut rec, n, big_t, hook)?;
+    let Ok(energy) = generic(&arm, &mut pile, &mut rec, n, big_t, on_step)?;
     let HandleRecord {
         speed,
         force,

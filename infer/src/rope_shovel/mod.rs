@@ -18,6 +18,7 @@ pub mod kinematics;
 pub mod params;
 pub mod path;
 pub mod report;
+mod retime;
 pub mod volume;
 
 pub use arm::RopeShovel;
@@ -25,6 +26,9 @@ pub use evaluate::{evaluate, evaluate_with};
 pub use params::ShovelParams;
 pub use path::{DigVars, Path, PathPoint};
 pub use report::{Constraint, SHOVEL_CHECKS, ShovelCheck, ShovelReport, ShovelSample};
+pub use retime::{
+    MAX_SHOVEL_RETIME_SAMPLES, ShovelRetimeWork, ShovelRetimed, best_stretch, retime, stretch,
+};
 
 use crate::machine::ReachError;
 use crate::pile::PileError;
