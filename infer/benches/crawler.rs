@@ -1,4 +1,4 @@
-//! Crawler timing goals (infer/README.md, "Crawler moves"):
+//! Crawler timing goals (infer/docs/crawler.md):
 //! - `fuzzy_control_step`: one call of the fuzzy controller (e = d + α·d0,
 //!   its rate, fuzzification, 49 rules, exact centroid): ≤ 10 µs;
 //! - `field_plan_30m_10_obstacles`: one improved potential-field plan of a

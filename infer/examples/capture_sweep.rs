@@ -1,4 +1,4 @@
-//! The sweep behind `CaptureConfig::default()` (infer/README.md, "Joining
+//! The sweep behind `CaptureConfig::default()` (infer/docs/crawler.md, "Joining
 //! the path"): every setting of a grid of turn radius per speed r_v,
 //! largest approach heading ψ_max, tail ℓ and heading gain k_ψ runs the
 //! two §5 scenarios at slip 0, 10 and 20 % on plant seeds 0–4 (`SEEDS`

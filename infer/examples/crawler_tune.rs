@@ -1,4 +1,4 @@
-//! The random search behind `FuzzyConfig::straight_join()` (infer/README.md,
+//! The random search behind `FuzzyConfig::straight_join()` (infer/docs/crawler.md,
 //! "Tuning"): 600 seeded log-uniform settings of K_e, k_ec (per metre),
 //! α, L0, k_L and the output scale run the two §5 scenarios at slip 0,
 //! 10 and 20 % on plant seeds 0–4; among the settings that never leave

@@ -64,7 +64,7 @@ fn scenario(
 /// §5 on the slipping plant with the fuzzy controller alone: deviation
 /// RMS ≤ 5 cm and max ≤ 10 cm after joining, final heading error ≤ 2°.
 /// It joins within 5.0–7.1 m (default scaling) or 4.2–6.2 m
-/// (straight-join), not within 5 m; infer/README.md says why no setting of
+/// (straight-join), not within 5 m; infer/docs/crawler.md says why no setting of
 /// the scaling factors does without leaving the 10 cm band afterwards, so
 /// the test holds the measured bounds (7.5 and 6.25 m). The capture phase
 /// (next test) is what joins within 5 m.

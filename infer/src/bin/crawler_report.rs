@@ -1,4 +1,4 @@
-//! `crawler_report`: the crawler figures of infer/README.md — the §5
+//! `crawler_report`: the crawler figures of infer/docs/crawler.md — the §5
 //! tracking scenarios (fuzzy vs PID vs pure pursuit on the same runs) and
 //! the improved vs classic potential field on seeded random obstacle
 //! fields whose goal a grid flood fill says is reachable. Writes

@@ -2,7 +2,7 @@
 //!
 //! The fuzzy controller of §4 sees the heading only through the preview
 //! deviation d, so from beyond d0 ≈ L/(1 + α) off the path it cannot ask
-//! for the full turn (infer/README.md, "Joining the path"). The capture
+//! for the full turn (infer/docs/crawler.md, "Joining the path"). The capture
 //! phase steers the approach instead: the travel heading ψ towards the path
 //! is held on the shortest-join curve of a vehicle turning at radius R,
 //!
@@ -28,7 +28,7 @@ use super::track::{Controller, Observation};
 use crate::math::{acos, deg};
 
 /// Settings of the capture phase. The defaults come from a sweep on the
-/// §5 scenarios (`examples/capture_sweep.rs`, infer/README.md): R =
+/// §5 scenarios (`examples/capture_sweep.rs`, infer/docs/crawler.md): R =
 /// 1.5 s·|v| is about twice the plant's tightest turn at 20 % slip
 /// (χB/Δ_max = 0.78 s), which absorbs the heading loop's lag and the slip
 /// noise; a tighter R joins sooner but overshoots the band at 2 m/s.

@@ -124,7 +124,7 @@ fn sort(v: &mut [f64]) {
 }
 
 /// Scaling factors and preview settings of the fuzzy controller, in one
-/// place. Defaults were tuned on the §5 scenarios (see infer/README.md).
+/// place. Defaults were tuned on the §5 scenarios (see infer/docs/crawler.md).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct FuzzyConfig {
@@ -168,7 +168,7 @@ impl FuzzyConfig {
     /// Scaling tuned for joining a straight path from a few metres off it
     /// (the §5 scenarios, `examples/crawler_tune.rs`): a longer preview,
     /// larger α and ec per metre. It joins about 1 m sooner than the
-    /// default but tracks curves 2–4 times worse (infer/README.md).
+    /// default but tracks curves 2–4 times worse (infer/docs/crawler.md).
     pub fn straight_join() -> Self {
         FuzzyConfig {
             k_e: 0.8,
