@@ -108,7 +108,7 @@ pub fn markdown(results: &[PileResult], machine: &str) -> String {
     let _ = writeln!(s, "# Perception report (rope shovel, §3)\n");
     let _ = writeln!(
         s,
-        "Written by `perceive --report DIR` (release build) on {machine}. Goals: R² ≥ 0.95 and RMS ≤ 5 mm to the generator's true surface on every pile. The chain's time below is one run with all cores; the one-core goal (≤ 250 ms) is checked by `cargo bench -p dataset_gen --bench perception` (see dataset_gen/README.md).\n"
+        "Written by `perceive --report DIR` (release build) on {machine}. Goals: R² ≥ 0.95 and RMS ≤ 5 mm to the generator's true surface on every pile. The chain's time below is one run with all cores; the one-core goal (≤ 250 ms) is checked by `cargo bench -p dataset_gen --bench perception` (see dataset_gen/docs/perception.md).\n"
     );
     let _ = writeln!(
         s,
