@@ -299,17 +299,8 @@ pub fn stretch_needed(cfg: &Config, report: &DigReport) -> f64 {
 /// `params` with its duration stretched by [`stretch_needed`] (and a small
 /// margin), kept within [t_min, t_max]; `None` when that changes nothing.
 pub fn stretched(cfg: &Config, params: &DigParams, report: &DigReport) -> Option<DigParams> {
-    let [t_min, t_max] = cfg.objective.duration;
     let k = stretch_needed(cfg, report);
-    let mut k = if k > 1.0 { k * 1.002 } else { 1.0 };
-    let t = params.duration;
-    if t * k > t_max {
-        k = t_max / t;
-    }
-    if t * k < t_min {
-        k = t_min / t;
-    }
-    ((k - 1.0).abs() >= 1e-9).then(|| rescale(params, k))
+    refine::stretch_within(k, params.duration, cfg.objective.duration).map(|k| rescale(params, k))
 }
 
 /// Budgets and weights of the repair.
@@ -376,6 +367,26 @@ struct Excavator<'a, 'g> {
     scratch: &'a mut CarveBuffer,
     guard: Option<&'a DesignGuard>,
     settings: &'a RepairSettings,
+}
+
+impl<'a, 'g> Excavator<'a, 'g> {
+    fn new(
+        cfg: &'a Config,
+        task: &'a DigTask,
+        ground: Ground<'g>,
+        scratch: &'a mut CarveBuffer,
+        guard: Option<&'a DesignGuard>,
+        settings: &'a RepairSettings,
+    ) -> Self {
+        Excavator {
+            cfg,
+            task,
+            ground,
+            scratch,
+            guard,
+            settings,
+        }
+    }
 }
 
 impl Repairable<4, 5> for Excavator<'_, '_> {
@@ -481,14 +492,7 @@ pub fn repair(
     guard: Option<&DesignGuard>,
     settings: &RepairSettings,
 ) -> Result<Repaired, RepairError> {
-    let mut m = Excavator {
-        cfg,
-        task,
-        ground,
-        scratch,
-        guard,
-        settings,
-    };
+    let mut m = Excavator::new(cfg, task, ground, scratch, guard, settings);
     match refine::repair(&mut m, predicted, &settings.search()) {
         Ok(f) => Ok(Repaired {
             params: f.vars,
@@ -541,13 +545,6 @@ pub fn refine_by(
     settings: &RepairSettings,
     mut score: impl FnMut(&Assessment, &CarveBuffer) -> f64,
 ) -> (DigParams, usize) {
-    let mut m = Excavator {
-        cfg,
-        task,
-        ground,
-        scratch,
-        guard,
-        settings,
-    };
+    let mut m = Excavator::new(cfg, task, ground, scratch, guard, settings);
     refine::refine_by(&mut m, seed, &settings.search(), |m, a| score(a, m.scratch))
 }

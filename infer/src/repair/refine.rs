@@ -45,6 +45,21 @@ pub trait Repairable<const D: usize, const V: usize> {
     fn start(&self, z0: &[f64; D]) -> [[f64; D]; V];
 }
 
+/// The stretch k (≥ 1 is slower) that meets the rate limits a dig broke,
+/// given `needed`, the smallest k its rates call for: that with a small
+/// margin, kept so that k t lies within `range`; `None` when k would be 1.
+pub fn stretch_within(needed: f64, t: f64, range: [f64; 2]) -> Option<f64> {
+    let [t_min, t_max] = range;
+    let mut k = if needed > 1.0 { needed * 1.002 } else { 1.0 };
+    if t * k > t_max {
+        k = t_max / t;
+    }
+    if t * k < t_min {
+        k = t_min / t;
+    }
+    ((k - 1.0).abs() >= 1e-9).then_some(k)
+}
+
 /// The refinement's budget and weights, whatever the machine.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Search {
