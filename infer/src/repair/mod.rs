@@ -15,7 +15,7 @@
 //! and T, with T clamped to [t_min, t_max], minimising the dig objective
 //! plus a penalty times the total normalised violation, under a hard budget
 //! of evaluations. Everything is on the stack. The sequence and the search
-//! are every machine's ([`refine`]); this module is the excavator's side.
+//! are every machine's ([`mod@refine`]); this module is the excavator's side.
 //!
 //! A [`DesignGuard`] adds one constraint the trench planner needs and the
 //! single-dig problem does not know: the tip may not cut (much) below the
@@ -530,7 +530,7 @@ pub fn refine(
     })
 }
 
-/// [`refine`] with another score to minimise than the dig objective:
+/// [`fn@refine`] with another score to minimise than the dig objective:
 /// `score` sees each candidate's assessment and its carving (in the
 /// scratch buffer), so a caller can ask for more than a good single dig
 /// (the trench planner asks for design material removed).
