@@ -17,6 +17,7 @@ mod evaluate;
 pub mod kinematics;
 pub mod params;
 pub mod path;
+mod repair;
 pub mod report;
 mod retime;
 pub mod volume;
@@ -25,6 +26,7 @@ pub use arm::RopeShovel;
 pub use evaluate::{evaluate, evaluate_with};
 pub use params::ShovelParams;
 pub use path::{DigVars, Path, PathPoint};
+pub use repair::{ShovelRepairError, ShovelRepairSettings, ShovelRepaired, repair};
 pub use report::{Constraint, SHOVEL_CHECKS, ShovelCheck, ShovelReport, ShovelSample};
 pub use retime::{
     MAX_SHOVEL_RETIME_SAMPLES, ShovelRetimeWork, ShovelRetimed, best_stretch, retime, stretch,

@@ -14,7 +14,8 @@
 //! **Refinement** is a Nelder–Mead search over z = [c1, c2, c3] / 0.05 rad
 //! and T, with T clamped to [t_min, t_max], minimising the dig objective
 //! plus a penalty times the total normalised violation, under a hard budget
-//! of evaluations. Everything is on the stack.
+//! of evaluations. Everything is on the stack. The sequence and the search
+//! are every machine's ([`mod@refine`]); this module is the excavator's side.
 //!
 //! A [`DesignGuard`] adds one constraint the trench planner needs and the
 //! single-dig problem does not know: the tip may not cut (much) below the
@@ -22,6 +23,8 @@
 
 // Errors carry the violated constraint by value: no heap in `no_std`, so no Box.
 #![allow(clippy::result_large_err)]
+
+pub mod refine;
 
 use crate::config::Config;
 use crate::dig::{Check, Cutoff, DigReport, DigTask, Ground, Reference, Sample, walk};
@@ -32,6 +35,7 @@ use crate::terrain::CarveBuffer;
 use crate::trajectory::DigParams;
 use crate::trench::DesignProfile;
 use core::cell::Cell;
+use refine::{Repairable, Search, Unmended};
 use serde::{Deserialize, Serialize};
 
 /// How a validated dig came about.
@@ -295,17 +299,8 @@ pub fn stretch_needed(cfg: &Config, report: &DigReport) -> f64 {
 /// `params` with its duration stretched by [`stretch_needed`] (and a small
 /// margin), kept within [t_min, t_max]; `None` when that changes nothing.
 pub fn stretched(cfg: &Config, params: &DigParams, report: &DigReport) -> Option<DigParams> {
-    let [t_min, t_max] = cfg.objective.duration;
     let k = stretch_needed(cfg, report);
-    let mut k = if k > 1.0 { k * 1.002 } else { 1.0 };
-    let t = params.duration;
-    if t * k > t_max {
-        k = t_max / t;
-    }
-    if t * k < t_min {
-        k = t_min / t;
-    }
-    ((k - 1.0).abs() >= 1e-9).then(|| rescale(params, k))
+    refine::stretch_within(k, params.duration, cfg.objective.duration).map(|k| rescale(params, k))
 }
 
 /// Budgets and weights of the repair.
@@ -362,33 +357,132 @@ pub enum RepairError {
 
 /// The bending scale of the refinement's variables \[rad\].
 const BEND_SCALE: f64 = 0.05;
-/// Cost of a candidate the model rejects outright (e.g. the tip leaves the terrain).
-const REJECTED: f64 = 1e9;
 
-/// z = [b1, b2, b3] / BEND_SCALE ++ [T], with b_i = a_i6 (T/2)⁶ the
-/// peak bending of joint i \[rad\] ([`bends_of`]).
-fn encode(p: &DigParams) -> [f64; 4] {
-    let b = bends_of(p);
-    [
-        b[0] / BEND_SCALE,
-        b[1] / BEND_SCALE,
-        b[2] / BEND_SCALE,
-        p.duration,
-    ]
+/// The excavator as [`Repairable`]: one task, its ground and guard, and
+/// the scratch buffer that holds the last assessed dig's carving.
+struct Excavator<'a, 'g> {
+    cfg: &'a Config,
+    task: &'a DigTask,
+    ground: Ground<'g>,
+    scratch: &'a mut CarveBuffer,
+    guard: Option<&'a DesignGuard>,
+    settings: &'a RepairSettings,
 }
 
-fn decode(cfg: &Config, z: &[f64; 4]) -> DigParams {
-    let [t_min, t_max] = cfg.objective.duration;
-    let t = if z[3].is_finite() {
-        z[3].clamp(t_min, t_max)
-    } else {
-        t_min
-    };
-    params_from_bends([z[0] * BEND_SCALE, z[1] * BEND_SCALE, z[2] * BEND_SCALE], t)
+impl<'a, 'g> Excavator<'a, 'g> {
+    fn new(
+        cfg: &'a Config,
+        task: &'a DigTask,
+        ground: Ground<'g>,
+        scratch: &'a mut CarveBuffer,
+        guard: Option<&'a DesignGuard>,
+        settings: &'a RepairSettings,
+    ) -> Self {
+        Excavator {
+            cfg,
+            task,
+            ground,
+            scratch,
+            guard,
+            settings,
+        }
+    }
 }
 
-/// Validates `predicted` and repairs it if needed. On success the carved
-/// surface of the returned dig is in `scratch`.
+impl Repairable<4, 5> for Excavator<'_, '_> {
+    type Vars = DigParams;
+    type Assessment = Assessment;
+    type Worst = Violation;
+    type Error = Error;
+
+    fn assess(&mut self, p: &DigParams) -> Result<Assessment, Error> {
+        assess(
+            self.cfg,
+            self.task,
+            p,
+            self.ground,
+            self.scratch,
+            self.guard,
+        )
+    }
+    fn feasible(a: &Assessment) -> bool {
+        a.feasible
+    }
+    fn violation(a: &Assessment) -> f64 {
+        a.violation
+    }
+    fn objective(a: &Assessment) -> f64 {
+        a.report.objective
+    }
+    fn worst(&self, a: &Assessment) -> Option<Violation> {
+        a.worst(self.guard)
+    }
+    fn unnamed(&self) -> Error {
+        Error::BadConfig {
+            field: "an infeasible assessment named no violated constraint",
+        }
+    }
+    fn stretched(&self, p: &DigParams, a: &Assessment) -> Option<DigParams> {
+        stretched(self.cfg, p, &a.report)
+    }
+    /// z = [b1, b2, b3] / BEND_SCALE ++ [T], with b_i = a_i6 (T/2)⁶ the
+    /// peak bending of joint i \[rad\] ([`bends_of`]).
+    fn encode(&self, p: &DigParams) -> [f64; 4] {
+        let b = bends_of(p);
+        [
+            b[0] / BEND_SCALE,
+            b[1] / BEND_SCALE,
+            b[2] / BEND_SCALE,
+            p.duration,
+        ]
+    }
+    fn decode(&self, z: &[f64; 4]) -> DigParams {
+        let [t_min, t_max] = self.cfg.objective.duration;
+        let t = if z[3].is_finite() {
+            z[3].clamp(t_min, t_max)
+        } else {
+            t_min
+        };
+        params_from_bends([z[0] * BEND_SCALE, z[1] * BEND_SCALE, z[2] * BEND_SCALE], t)
+    }
+    /// One step per variable; the duration vertex kept inside
+    /// [t_min, t_max] so it is not wasted on the clamp.
+    fn start(&self, z0: &[f64; 4]) -> [[f64; 4]; 5] {
+        let settings = self.settings;
+        let steps = [
+            settings.step_bend / BEND_SCALE,
+            settings.step_bend / BEND_SCALE,
+            settings.step_bend / BEND_SCALE,
+            settings.step_duration,
+        ];
+        let mut simplex = [*z0; 5];
+        for i in 0..4 {
+            simplex[i + 1][i] += steps[i];
+        }
+        let [t_min, t_max] = self.cfg.objective.duration;
+        if simplex[4][3] > t_max {
+            simplex[4][3] = z0[3] - steps[3];
+        }
+        for v in &mut simplex {
+            v[3] = v[3].clamp(t_min, t_max);
+        }
+        simplex
+    }
+}
+
+impl RepairSettings {
+    /// The machine-free part: budget, penalty and tolerance.
+    pub fn search(&self) -> Search {
+        Search {
+            budget: self.budget,
+            penalty: self.penalty,
+            tolerance: self.tolerance,
+        }
+    }
+}
+
+/// Validates `predicted` and repairs it if needed ([`refine::repair`]).
+/// On success the carved surface of the returned dig is in `scratch`.
 pub fn repair(
     cfg: &Config,
     task: &DigTask,
@@ -398,61 +492,24 @@ pub fn repair(
     guard: Option<&DesignGuard>,
     settings: &RepairSettings,
 ) -> Result<Repaired, RepairError> {
-    let first = assess(cfg, task, predicted, ground, scratch, guard)?;
-    if first.feasible {
-        return Ok(Repaired {
-            params: *predicted,
-            assessment: first,
-            outcome: Outcome::Predicted,
-            evaluations: 1,
-        });
-    }
-    let mut evaluations = 1;
-    let mut seed = *predicted;
-    // Duration rescaling: the cheapest repair, tried when it can help.
-    let mut current = first;
-    for _ in 0..3 {
-        let Some(candidate) = stretched(cfg, &seed, &current.report) else {
-            break;
-        };
-        let a = assess(cfg, task, &candidate, ground, scratch, guard)?;
-        evaluations += 1;
-        if a.violation > current.violation {
-            break;
-        }
-        seed = candidate;
-        current = a;
-        if a.feasible {
-            return Ok(Repaired {
-                params: seed,
-                assessment: a,
-                outcome: Outcome::Rescaled,
-                evaluations,
-            });
-        }
-    }
-    let (best, used) = refine(cfg, task, &seed, ground, scratch, guard, settings);
-    evaluations += used;
-    // Leave the returned dig's carving in `scratch`.
-    let a = assess(cfg, task, &best, ground, scratch, guard)?;
-    evaluations += 1;
-    if a.feasible {
-        Ok(Repaired {
-            params: best,
-            assessment: a,
-            outcome: Outcome::Refined,
-            evaluations,
-        })
-    } else {
-        let worst = a
-            .worst(guard)
-            .or_else(|| current.worst(guard))
-            .expect("an infeasible assessment has a violated constraint");
-        Err(RepairError::Infeasible {
+    let mut m = Excavator::new(cfg, task, ground, scratch, guard, settings);
+    match refine::repair(&mut m, predicted, &settings.search()) {
+        Ok(f) => Ok(Repaired {
+            params: f.vars,
+            assessment: f.assessment,
+            outcome: f.outcome,
+            evaluations: f.evaluations,
+        }),
+        Err(Unmended::Model(e)) => Err(RepairError::Model(e)),
+        Err(Unmended::Infeasible {
             worst,
             best,
             evaluations,
-        })
+        }) => Err(RepairError::Infeasible {
+            worst,
+            best,
+            evaluations,
+        }),
     }
 }
 
@@ -473,7 +530,7 @@ pub fn refine(
     })
 }
 
-/// [`refine`] with another score to minimise than the dig objective:
+/// [`fn@refine`] with another score to minimise than the dig objective:
 /// `score` sees each candidate's assessment and its carving (in the
 /// scratch buffer), so a caller can ask for more than a good single dig
 /// (the trench planner asks for design material removed).
@@ -488,131 +545,6 @@ pub fn refine_by(
     settings: &RepairSettings,
     mut score: impl FnMut(&Assessment, &CarveBuffer) -> f64,
 ) -> (DigParams, usize) {
-    let budget = settings.budget;
-    if budget == 0 {
-        return (*seed, 0);
-    }
-    let mut used = 0usize;
-    // Best feasible (objective) and best overall (cost).
-    let best_feasible: core::cell::Cell<Option<(f64, [f64; 4])>> = core::cell::Cell::new(None);
-    let mut cost = |z: &[f64; 4], used: &mut usize| -> f64 {
-        *used += 1;
-        let p = decode(cfg, z);
-        match assess(cfg, task, &p, ground, scratch, guard) {
-            Ok(a) => {
-                let v = score(&a, scratch);
-                let c = v + settings.penalty * a.violation;
-                if a.feasible && best_feasible.get().is_none_or(|(o, _)| v < o) {
-                    best_feasible.set(Some((v, *z)));
-                }
-                if c.is_finite() { c } else { REJECTED }
-            }
-            Err(_) => REJECTED,
-        }
-    };
-    let z0 = encode(seed);
-    let steps = [
-        settings.step_bend / BEND_SCALE,
-        settings.step_bend / BEND_SCALE,
-        settings.step_bend / BEND_SCALE,
-        settings.step_duration,
-    ];
-    let mut simplex = [z0; 5];
-    for i in 0..4 {
-        simplex[i + 1][i] += steps[i];
-    }
-    // Keep the duration vertex inside [t_min, t_max] so it is not wasted on the clamp.
-    let [t_min, t_max] = cfg.objective.duration;
-    if simplex[4][3] > t_max {
-        simplex[4][3] = z0[3] - steps[3];
-    }
-    for v in &mut simplex {
-        v[3] = v[3].clamp(t_min, t_max);
-    }
-    let mut values = [0.0; 5];
-    for (i, v) in simplex.iter().enumerate() {
-        if used >= budget {
-            values[i] = f64::INFINITY;
-        } else {
-            values[i] = cost(v, &mut used);
-        }
-    }
-    while used + 2 <= budget {
-        // Order: best first.
-        let mut order = [0usize, 1, 2, 3, 4];
-        order.sort_unstable_by(|&a, &b| values[a].total_cmp(&values[b]));
-        let s = order.map(|i| simplex[i]);
-        let f = order.map(|i| values[i]);
-        simplex = s;
-        values = f;
-        let spread = (1..5)
-            .map(|i| {
-                (0..4)
-                    .map(|d| (simplex[i][d] - simplex[0][d]).abs())
-                    .fold(0.0, f64::max)
-            })
-            .fold(0.0, f64::max);
-        if spread < settings.tolerance && best_feasible.get().is_some() {
-            break;
-        }
-        let mut centroid = [0.0; 4];
-        for v in &simplex[..4] {
-            for d in 0..4 {
-                centroid[d] += v[d] / 4.0;
-            }
-        }
-        let along = |t: f64| -> [f64; 4] {
-            core::array::from_fn(|d| centroid[d] + t * (simplex[4][d] - centroid[d]))
-        };
-        let xr = along(-1.0);
-        let fr = cost(&xr, &mut used);
-        if fr < values[0] {
-            let xe = along(-2.0);
-            let fe = cost(&xe, &mut used);
-            if fe < fr {
-                simplex[4] = xe;
-                values[4] = fe;
-            } else {
-                simplex[4] = xr;
-                values[4] = fr;
-            }
-        } else if fr < values[3] {
-            simplex[4] = xr;
-            values[4] = fr;
-        } else {
-            let (xc, fc) = if fr < values[4] {
-                let x = along(-0.5);
-                (x, cost(&x, &mut used))
-            } else {
-                let x = along(0.5);
-                (x, cost(&x, &mut used))
-            };
-            if fc < values[4].min(fr) {
-                simplex[4] = xc;
-                values[4] = fc;
-            } else {
-                // Shrink towards the best vertex.
-                for i in 1..5 {
-                    if used >= budget {
-                        break;
-                    }
-                    let best = simplex[0];
-                    for (v, b) in simplex[i].iter_mut().zip(best) {
-                        *v = b + 0.5 * (*v - b);
-                    }
-                    values[i] = cost(&simplex[i], &mut used);
-                }
-            }
-        }
-    }
-    let best = match best_feasible.get() {
-        Some((_, z)) => z,
-        None => {
-            let i = (0..5)
-                .min_by(|&a, &b| values[a].total_cmp(&values[b]))
-                .unwrap_or(0);
-            simplex[i]
-        }
-    };
-    (decode(cfg, &best), used)
+    let mut m = Excavator::new(cfg, task, ground, scratch, guard, settings);
+    refine::refine_by(&mut m, seed, &settings.search(), |m, a| score(a, m.scratch))
 }
