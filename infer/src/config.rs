@@ -11,10 +11,11 @@ use crate::error::Error;
 use crate::math::deg;
 use serde::{Deserialize, Serialize};
 
-/// The planar 3R arm: geometry, joint limits, drive limits and inertia.
+/// The excavator's planar 3R arm: geometry, joint limits, drive limits
+/// and inertia (`Config::machine` in config files).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
-pub struct Machine {
+pub struct ExcavatorParams {
     /// Boom, stick, bucket (pin to tooth tip) lengths l1, l2, l3 \[m\].
     pub link_length: [f64; 3],
     /// Lower joint limits θ_i,min \[rad\] (−20°, −160°, −160°).
@@ -41,11 +42,11 @@ pub struct Machine {
     pub gravity: f64,
 }
 
-impl Default for Machine {
+impl Default for ExcavatorParams {
     fn default() -> Self {
         let l = [0.740, 0.350, 0.220];
         let m = [12.0, 6.0, 3.0];
-        Machine {
+        ExcavatorParams {
             link_length: l,
             joint_min: [deg(-20.0), deg(-160.0), deg(-160.0)],
             joint_max: [deg(65.0), deg(10.0), deg(5.0)],
@@ -152,7 +153,7 @@ impl Default for DigAngles {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Config {
-    pub machine: Machine,
+    pub machine: ExcavatorParams,
     pub soil: Soil,
     pub objective: Objective,
     pub dig_angle: DigAngles,
@@ -181,7 +182,7 @@ fn is_false(b: &bool) -> bool {
 impl Default for Config {
     fn default() -> Self {
         Config {
-            machine: Machine::default(),
+            machine: ExcavatorParams::default(),
             soil: Soil::default(),
             objective: Objective::default(),
             dig_angle: DigAngles::default(),

@@ -8,7 +8,7 @@
 //! bucket's own inertia; the momentum given to newly cut material (the ṁ
 //! term) is part of the digging resistance and not added again here.
 
-use crate::config::Machine;
+use crate::config::ExcavatorParams;
 use crate::kinematics::LinkFrames;
 use crate::math::cross;
 
@@ -17,7 +17,7 @@ use crate::math::cross;
 /// bucket carries `load` \[kg\].
 #[inline]
 pub fn inverse_dynamics(
-    machine: &Machine,
+    machine: &ExcavatorParams,
     frames: &LinkFrames,
     qd: &[f64; 3],
     qdd: &[f64; 3],
@@ -33,7 +33,7 @@ pub fn inverse_dynamics(
 /// slowed by k along the same path ([`crate::retime`]).
 #[inline]
 pub fn static_torque(
-    machine: &Machine,
+    machine: &ExcavatorParams,
     frames: &LinkFrames,
     load: f64,
     tip_force: [f64; 2],
@@ -53,7 +53,7 @@ pub fn static_torque(
 /// reuse it with gravity off.
 #[inline]
 fn rne(
-    machine: &Machine,
+    machine: &ExcavatorParams,
     frames: &LinkFrames,
     qd: &[f64; 3],
     qdd: &[f64; 3],
@@ -114,7 +114,7 @@ fn rne(
 }
 
 /// Joint-space mass matrix M(q) with `load` kg in the bucket.
-pub fn mass_matrix(machine: &Machine, q: &[f64; 3], load: f64) -> [[f64; 3]; 3] {
+pub fn mass_matrix(machine: &ExcavatorParams, q: &[f64; 3], load: f64) -> [[f64; 3]; 3] {
     let frames = LinkFrames::new(q);
     let mut m = [[0.0; 3]; 3];
     for j in 0..3 {
@@ -129,7 +129,7 @@ pub fn mass_matrix(machine: &Machine, q: &[f64; 3], load: f64) -> [[f64; 3]; 3] 
 }
 
 /// Velocity and gravity torques C(q, q̇) q̇ + G(q).
-pub fn bias_torque(machine: &Machine, q: &[f64; 3], qd: &[f64; 3], load: f64) -> [f64; 3] {
+pub fn bias_torque(machine: &ExcavatorParams, q: &[f64; 3], qd: &[f64; 3], load: f64) -> [f64; 3] {
     rne(
         machine,
         &LinkFrames::new(q),
@@ -142,7 +142,7 @@ pub fn bias_torque(machine: &Machine, q: &[f64; 3], qd: &[f64; 3], load: f64) ->
 }
 
 /// Kinetic plus potential energy of the arm \[J\] (potential zero at y = 0).
-pub fn mechanical_energy(machine: &Machine, q: &[f64; 3], qd: &[f64; 3], load: f64) -> f64 {
+pub fn mechanical_energy(machine: &ExcavatorParams, q: &[f64; 3], qd: &[f64; 3], load: f64) -> f64 {
     let m = mass_matrix(machine, q, load);
     let mut kinetic = 0.0;
     for i in 0..3 {

@@ -4,7 +4,7 @@
 //! machine), y up; θ1 is the boom angle from +x, θ2 the stick relative to the
 //! boom, θ3 the bucket relative to the stick, all counter-clockwise \[rad\].
 
-use crate::config::Machine;
+use crate::config::ExcavatorParams;
 use crate::error::{Error, ensure_finite};
 use crate::math::{acos, atan2, sin_cos, sqrt, to_deg, wrap_angle};
 use serde::{Deserialize, Serialize};
@@ -66,7 +66,7 @@ impl LinkFrames {
 }
 
 /// Tooth-tip pose of joint angles `q`.
-pub fn forward(machine: &Machine, q: &[f64; 3]) -> Pose {
+pub fn forward(machine: &ExcavatorParams, q: &[f64; 3]) -> Pose {
     let p = LinkFrames::new(q).tip(&machine.link_length);
     Pose {
         x: p[0],
@@ -76,7 +76,7 @@ pub fn forward(machine: &Machine, q: &[f64; 3]) -> Pose {
 }
 
 /// Tooth-tip Jacobian at `q`.
-pub fn tip_jacobian(machine: &Machine, q: &[f64; 3]) -> [[f64; 3]; 2] {
+pub fn tip_jacobian(machine: &ExcavatorParams, q: &[f64; 3]) -> [[f64; 3]; 2] {
     LinkFrames::new(q).jacobian(&machine.link_length)
 }
 
@@ -107,7 +107,7 @@ pub enum Elbow {
 ///
 /// Unreachable targets and targets reachable only outside the joint ranges
 /// are errors, never clamped.
-pub fn inverse(machine: &Machine, pose: &Pose, elbow: Elbow) -> Result<[f64; 3], Error> {
+pub fn inverse(machine: &ExcavatorParams, pose: &Pose, elbow: Elbow) -> Result<[f64; 3], Error> {
     ensure_finite("target pose", &[pose.x, pose.y, pose.zeta])?;
     let [l1, l2, l3] = machine.link_length;
     let (sz, cz) = sin_cos(pose.zeta);
@@ -144,7 +144,7 @@ pub fn inverse(machine: &Machine, pose: &Pose, elbow: Elbow) -> Result<[f64; 3],
 }
 
 /// Error if any angle of `q` is non-finite or outside its joint range.
-pub fn check_joint_range(machine: &Machine, q: &[f64; 3]) -> Result<(), Error> {
+pub fn check_joint_range(machine: &ExcavatorParams, q: &[f64; 3]) -> Result<(), Error> {
     ensure_finite("joint angle", q)?;
     for (i, &angle) in q.iter().enumerate() {
         if angle < machine.joint_min[i] || angle > machine.joint_max[i] {
@@ -160,7 +160,7 @@ pub fn check_joint_range(machine: &Machine, q: &[f64; 3]) -> Result<(), Error> {
 }
 
 /// The farthest the tooth tip can be from the boom foot \[m\].
-pub fn max_reach(machine: &Machine) -> f64 {
+pub fn max_reach(machine: &ExcavatorParams) -> f64 {
     machine.link_length.iter().sum()
 }
 

@@ -58,7 +58,7 @@ pub mod trench;
 #[cfg(feature = "std")]
 pub mod verify;
 
-pub use config::{Config, DigAngles, Machine, Objective, Soil};
+pub use config::{Config, DigAngles, ExcavatorParams, Objective, Soil};
 pub use dig::{
     Check, DigReport, DigTask, DigType, Ground, Quantity, Reference, Sample, evaluate,
     evaluate_with, kinematic_peaks,

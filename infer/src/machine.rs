@@ -13,7 +13,7 @@
 //! own terms (N·m and rad/s for the excavator's joint drives, N and m/s for
 //! the shovel's hoist rope and crowd). All SI.
 
-use crate::config::Machine;
+use crate::config::ExcavatorParams;
 use crate::dynamics::{inverse_dynamics, static_torque};
 use crate::error::Error;
 use crate::kinematics::{self, Elbow, LinkFrames, Pose};
@@ -117,7 +117,7 @@ pub trait Arm<const N: usize> {
 /// The excavator's 3R arm seen through [`Arm`]: the functions of
 /// [`crate::kinematics`] and [`crate::dynamics`], unchanged.
 #[derive(Debug, Clone, Copy)]
-pub struct Excavator<'a>(pub &'a Machine);
+pub struct Excavator<'a>(pub &'a ExcavatorParams);
 
 impl Arm<3> for Excavator<'_> {
     fn tip(&self, q: &[f64; 3]) -> [f64; 2] {

@@ -10,7 +10,7 @@
 //! any path (a fixed "upwards" choice would flip sides whenever the tip's
 //! motion passes vertical).
 
-use crate::config::{Machine, Soil};
+use crate::config::{ExcavatorParams, Soil};
 use crate::kinematics::norm2;
 
 /// Below this tip speed \[m/s\] the direction of motion is undefined and the
@@ -21,7 +21,7 @@ const MIN_SPEED: f64 = 1e-12;
 /// \[m/s\] at `depth` h \[m\] below the original surface.
 #[inline]
 pub fn tip_resistance(
-    machine: &Machine,
+    machine: &ExcavatorParams,
     soil: &Soil,
     depth: f64,
     tip_velocity: [f64; 2],

@@ -5,7 +5,7 @@ mod common;
 use common::Lcg;
 use infer::dynamics::{bias_torque, inverse_dynamics, mass_matrix, mechanical_energy};
 use infer::kinematics::LinkFrames;
-use infer::{Config, Machine, tip_jacobian};
+use infer::{Config, ExcavatorParams, tip_jacobian};
 use nalgebra::{Matrix3, Vector3};
 
 /// M(q), ∂M/∂q_k and G(q) written out by hand from the Lagrangian.
@@ -15,7 +15,7 @@ struct Lagrangian {
     g: [f64; 3],
 }
 
-fn lagrangian(mc: &Machine, q: &[f64; 3], load: f64) -> Lagrangian {
+fn lagrangian(mc: &ExcavatorParams, q: &[f64; 3], load: f64) -> Lagrangian {
     let [l1, l2, _] = mc.link_length;
     let r: [f64; 3] = core::array::from_fn(|i| mc.com_fraction[i] * mc.link_length[i]);
     let (r1, r2, r3) = (r[0], r[1], r[2]);
@@ -75,7 +75,7 @@ fn lagrangian(mc: &Machine, q: &[f64; 3], load: f64) -> Lagrangian {
 
 /// τ = M q̈ + C q̇ + G − Jᵀ F, with C q̇ from the Christoffel symbols.
 fn lagrange_torque(
-    mc: &Machine,
+    mc: &ExcavatorParams,
     q: &[f64; 3],
     qd: &[f64; 3],
     qdd: &[f64; 3],
@@ -128,7 +128,7 @@ fn newton_euler_matches_closed_form_lagrangian() {
     }
 }
 
-fn accel(mc: &Machine, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 3] {
+fn accel(mc: &ExcavatorParams, q: &[f64; 3], qd: &[f64; 3]) -> [f64; 3] {
     let m = Matrix3::from_fn(|i, j| mass_matrix(mc, q, 0.0)[i][j]);
     let b = bias_torque(mc, q, qd, 0.0);
     let a = m.lu().solve(&-Vector3::new(b[0], b[1], b[2])).unwrap();

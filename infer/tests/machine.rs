@@ -31,7 +31,7 @@ fn shovel_effort_splits_into_motion_and_static_parts() {
 
 #[test]
 fn excavator_arm_agrees_with_its_functions() {
-    let m = infer::Machine::default();
+    let m = infer::ExcavatorParams::default();
     let arm = Excavator(&m);
     let q = [deg(30.0), deg(-70.0), deg(-60.0)];
     let (qd, qdd) = ([0.1, -0.2, 0.3], [0.05, 0.1, -0.2]);

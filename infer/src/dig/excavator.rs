@@ -8,7 +8,7 @@ use super::walk::{
     walk as generic,
 };
 use super::{CHECKS, Check, DigReport, DigTask, DigType, Ground, Quantity, Reference, Sample};
-use crate::config::{Config, Machine, Soil};
+use crate::config::{Config, ExcavatorParams, Soil};
 use crate::dynamics::inverse_dynamics;
 use crate::error::{Error, ensure_finite};
 use crate::kinematics::{LinkFrames, check_joint_range, mul_jacobian};
@@ -41,7 +41,7 @@ pub(crate) struct JointFrame {
 
 /// The 3R arm along its joint-space trajectory.
 pub(crate) struct JointPath<'a> {
-    machine: &'a Machine,
+    machine: &'a ExcavatorParams,
     traj: &'a Trajectory,
     /// x of the boom foot in the terrain's frame (m).
     base_x: f64,
@@ -90,7 +90,7 @@ pub(crate) struct Carving<'a, 'c> {
     /// holds those in registers across the carving calls.
     carver: &'c mut Carver<'a>,
     terrain: &'a Terrain,
-    machine: &'a Machine,
+    machine: &'a ExcavatorParams,
     soil: &'a Soil,
     prev_tip: GridPoint,
     prev_velocity: [f64; 2],

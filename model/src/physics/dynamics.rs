@@ -5,7 +5,7 @@
 
 use super::kinematics::LinkFrames;
 use burn::tensor::Tensor;
-use infer::Machine;
+use infer::ExcavatorParams;
 
 /// 2-D cross product a × b = a_x b_y − a_y b_x.
 fn cross(a: [&Tensor<2>; 2], b: &[Tensor<2>; 2]) -> Tensor<2> {
@@ -16,7 +16,7 @@ fn cross(a: [&Tensor<2>; 2], b: &[Tensor<2>; 2]) -> Tensor<2> {
 /// on the tip with `tip_force` \[N\] and the bucket carries `load` \[kg\]
 /// (`infer::dynamics::inverse_dynamics`).
 pub fn inverse_dynamics(
-    machine: &Machine,
+    machine: &ExcavatorParams,
     frames: &LinkFrames,
     qd: &[Tensor<2>; 3],
     qdd: &[Tensor<2>; 3],

@@ -13,7 +13,7 @@
 //! in f32 (ε² = 1e-18).
 
 use burn::tensor::Tensor;
-use infer::{Machine, Soil};
+use infer::{ExcavatorParams, Soil};
 
 /// Regularising speed ε \[m/s\] of the direction of travel.
 pub const SPEED_EPS: f64 = 1e-9;
@@ -21,7 +21,7 @@ pub const SPEED_EPS: f64 = 1e-9;
 /// Force \[N\] the material applies to the tooth tip moving at `tip_velocity`
 /// \[m/s\] at `depth` h ≥ 0 \[m\] below the original surface (all `[B, n]`).
 pub fn tip_resistance(
-    machine: &Machine,
+    machine: &ExcavatorParams,
     soil: &Soil,
     depth: Tensor<2>,
     tip_velocity: &[Tensor<2>; 2],
