@@ -455,10 +455,7 @@ impl Repairable<4, 5> for Excavator<'_, '_> {
             settings.step_bend / BEND_SCALE,
             settings.step_duration,
         ];
-        let mut simplex = [*z0; 5];
-        for i in 0..4 {
-            simplex[i + 1][i] += steps[i];
-        }
+        let mut simplex = refine::axis_simplex(z0, &steps);
         let [t_min, t_max] = self.cfg.objective.duration;
         if simplex[4][3] > t_max {
             simplex[4][3] = z0[3] - steps[3];

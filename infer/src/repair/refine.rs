@@ -45,6 +45,19 @@ pub trait Repairable<const D: usize, const V: usize> {
     fn start(&self, z0: &[f64; D]) -> [[f64; D]; V];
 }
 
+/// The simplex of `z0` and one step along each axis of z (vertex i + 1
+/// moves variable i by `steps[i]`), the usual start of a [`Repairable`].
+pub fn axis_simplex<const D: usize, const V: usize>(
+    z0: &[f64; D],
+    steps: &[f64; D],
+) -> [[f64; D]; V] {
+    let mut simplex = [*z0; V];
+    for i in 0..D {
+        simplex[i + 1][i] += steps[i];
+    }
+    simplex
+}
+
 /// The stretch k (≥ 1 is slower) that meets the rate limits a dig broke,
 /// given `needed`, the smallest k its rates call for: that with a small
 /// margin, kept so that k t lies within `range`; `None` when k would be 1.

@@ -14,7 +14,7 @@ use super::{Constraint, DigVars, ShovelCheck, ShovelError, ShovelParams, ShovelR
 use super::{evaluate, stretch};
 use crate::pile::PileSurface;
 use crate::repair::Outcome;
-use crate::repair::refine::{self, Repairable, Search, Unmended};
+use crate::repair::refine::{self, Repairable, Search, Unmended, axis_simplex};
 
 /// Budgets and weights of a shovel repair.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -162,10 +162,7 @@ impl Repairable<5, 6> for Shovel<'_> {
     /// One step per variable; the duration vertex stepped back when
     /// forward would leave the allowed range (the clamp would waste it).
     fn start(&self, z0: &[f64; 5]) -> [[f64; 5]; 6] {
-        let mut simplex = [*z0; 6];
-        for i in 0..5 {
-            simplex[i + 1][i] += self.step;
-        }
+        let mut simplex = axis_simplex(z0, &[self.step; 5]);
         if simplex[3][2] > 1.0 {
             simplex[3][2] = z0[2] - self.step;
         }
