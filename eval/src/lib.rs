@@ -24,6 +24,7 @@ pub mod benchmarks;
 pub mod digs;
 pub mod error;
 pub mod evaluation;
+pub mod learned;
 pub mod networks;
 pub mod output;
 pub mod pipeline;

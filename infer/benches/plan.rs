@@ -14,11 +14,16 @@
 //! - `template_task_X[_N]`: the template planner (`artifacts/templates.json`)
 //!   with the default bound of 4,800 exact evaluations per task, and with
 //!   N; the work is allocated once, as a controller would.
+//! - `learned_task_X[_N]`: the learned planner (`artifacts/task_network/
+//!   seed_1.json`): the task network's sequence checked and refitted within
+//!   the least bound (100 exact evaluations) and within N.
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use infer::network::NetworkFile;
 use infer::repair::assess;
-use infer::template::{TemplateFile, TemplateSettings, TemplateWork};
+use infer::template::{
+    MIN_EVALUATIONS, TaskNetworkFile, TemplateFile, TemplateSettings, TemplateWork,
+};
 use infer::{
     CarveBuffer, Config, DigParams, DigType, Ground, NetworkPair, Planner, PlannerSettings,
     QueryRanges, RepairSettings, Terrain, TrenchTask,
@@ -130,9 +135,40 @@ fn bench(c: &mut Criterion) {
     }
 }
 
+/// `learned_task_X[_N]`: see the module docs.
+fn bench_learned(c: &mut Criterion) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../artifacts/task_network/seed_1.json");
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| {
+        panic!(
+            "{}: {e} (the bench needs the shipped task network)",
+            path.display()
+        )
+    });
+    let file = TaskNetworkFile::from_json(&text).unwrap();
+    let net = file.network().unwrap();
+    let planner = Planner::new(&Config::default(), &PlannerSettings::default()).unwrap();
+    let mut work = Box::new(TemplateWork::new(&planner).unwrap());
+    for (suffix, max_evaluations) in [("", MIN_EVALUATIONS), ("_1200", 1200), ("_4800", 4800)] {
+        let settings = TemplateSettings {
+            max_evaluations,
+            ..TemplateSettings::default()
+        };
+        for name in ['A', 'B', 'C', 'D'] {
+            let task = TrenchTask::reference(name).unwrap();
+            c.bench_function(&format!("learned_task_{name}{suffix}"), |b| {
+                b.iter(|| {
+                    black_box(work.plan_learned(&planner, black_box(&task), &net, &settings)).ok();
+                    black_box(work.len())
+                })
+            });
+        }
+    }
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(20);
-    targets = bench
+    targets = bench, bench_learned
 }
 criterion_main!(benches);

@@ -10,7 +10,10 @@
 //! μ_x (7) σ_x (7) μ_y (4) σ_y (4), then per layer: W (in × out, row-major), b (out)
 //! ```
 //!
-//! so a controller can keep them in a `static` array. W is stored as burn
+//! so a controller can keep them in a `static` array. The same dense core
+//! serves other input and output counts (`Network<'a, I, O>`, e.g. the task
+//! network of [`crate::template::learned`]): the layout is then
+//! μ_x (I) σ_x (I) μ_y (O) σ_y (O), then the layers. W is stored as burn
 //! holds it (y = x W + b): the weights from one input to every output lie
 //! side by side, so the forward pass adds a block of outputs at once in
 //! vector registers. With `std`, [`NetworkFile`] reads and writes the JSON
@@ -33,24 +36,37 @@ pub const NORMALISATION: usize = 2 * INPUTS + 2 * OUTPUTS;
 /// Outputs of a layer the forward pass sums side by side.
 const BLOCK: usize = 16;
 
-/// A dense tanh network borrowing its parameters.
+/// A dense tanh network of `I` inputs and `O` outputs (by default the dig
+/// network's 7 and 4) borrowing its parameters.
 #[derive(Debug, Clone, Copy)]
-pub struct Network<'a> {
+pub struct Network<'a, const I: usize = INPUTS, const O: usize = OUTPUTS> {
     widths: [usize; MAX_LAYERS + 1],
     layers: usize,
     params: &'a [f64],
 }
 
 impl<'a> Network<'a> {
-    /// Checks the layer widths (first `INPUTS`, last `OUTPUTS`) against the
-    /// parameter count, and that every parameter is finite and every σ > 0.
+    /// A dig network: [`Network::sized`] with 7 inputs and 4 outputs.
     pub fn new(widths: &[usize], params: &'a [f64]) -> Result<Self, Error> {
+        Self::sized(widths, params)
+    }
+}
+
+impl<'a, const I: usize, const O: usize> Network<'a, I, O> {
+    /// Number of normalisation constants at the front of the parameters.
+    const NORMALISATION: usize = 2 * I + 2 * O;
+
+    /// Checks the layer widths (first `I`, last `O`) against the
+    /// parameter count, and that every parameter is finite and every σ > 0.
+    pub fn sized(widths: &[usize], params: &'a [f64]) -> Result<Self, Error> {
         let layers = widths.len().wrapping_sub(1);
         if widths.len() < 2 || layers > MAX_LAYERS {
             return Err(Error::BadNetwork("needs between 1 and 8 layers"));
         }
-        if widths[0] != INPUTS || widths[layers] != OUTPUTS {
-            return Err(Error::BadNetwork("must map 7 inputs to 4 outputs"));
+        if widths[0] != I || widths[layers] != O {
+            return Err(Error::BadNetwork(
+                "the first and last layer widths do not match the inputs and outputs",
+            ));
         }
         if widths.iter().any(|&w| w == 0 || w > MAX_WIDTH) {
             return Err(Error::BadNetwork("a layer is empty or wider than 256"));
@@ -61,9 +77,9 @@ impl<'a> Network<'a> {
             ));
         }
         ensure_finite("network parameter", params)?;
-        let sigma = params[INPUTS..2 * INPUTS]
+        let sigma = params[I..2 * I]
             .iter()
-            .chain(&params[2 * INPUTS + OUTPUTS..NORMALISATION]);
+            .chain(&params[2 * I + O..Self::NORMALISATION]);
         if sigma.clone().any(|&s| s <= 0.0) {
             return Err(Error::BadNetwork("a normalisation scale is not positive"));
         }
@@ -81,15 +97,15 @@ impl<'a> Network<'a> {
     }
 
     /// Y for the query `x`, or an error if `x` is not finite.
-    pub fn forward(&self, x: &[f64; INPUTS]) -> Result<[f64; OUTPUTS], Error> {
+    pub fn forward(&self, x: &[f64; I]) -> Result<[f64; O], Error> {
         ensure_finite("network input", x)?;
         let p = self.params;
         let mut a = [0.0; MAX_WIDTH];
         let mut b = [0.0; MAX_WIDTH];
-        for i in 0..INPUTS {
-            a[i] = (x[i] - p[i]) / p[INPUTS + i];
+        for i in 0..I {
+            a[i] = (x[i] - p[i]) / p[I + i];
         }
-        let mut offset = NORMALISATION;
+        let mut offset = Self::NORMALISATION;
         for l in 0..self.layers {
             let (n_in, n_out) = (self.widths[l], self.widths[l + 1]);
             let weights = &p[offset..offset + n_in * n_out];
@@ -131,19 +147,19 @@ impl<'a> Network<'a> {
             }
             core::mem::swap(&mut a, &mut b);
         }
-        let (mean, std) = (
-            &p[2 * INPUTS..2 * INPUTS + OUTPUTS],
-            &p[2 * INPUTS + OUTPUTS..NORMALISATION],
-        );
-        let y: [f64; OUTPUTS] = core::array::from_fn(|i| a[i] * std[i] + mean[i]);
+        let (mean, std) = (&p[2 * I..2 * I + O], &p[2 * I + O..Self::NORMALISATION]);
+        let y: [f64; O] = core::array::from_fn(|i| a[i] * std[i] + mean[i]);
         ensure_finite("network output", &y)?;
         Ok(y)
     }
 }
 
-/// Parameters a network of these widths needs, normalisation included.
+/// Parameters a network of these widths needs, normalisation included
+/// (2 per input and per output).
 pub fn parameter_count(widths: &[usize]) -> usize {
-    NORMALISATION + widths.windows(2).map(|w| w[0] * w[1] + w[1]).sum::<usize>()
+    let (i, o) = (widths.first(), widths.last());
+    let normalisation = 2 * (i.copied().unwrap_or(0) + o.copied().unwrap_or(0));
+    normalisation + widths.windows(2).map(|w| w[0] * w[1] + w[1]).sum::<usize>()
 }
 
 #[cfg(feature = "std")]

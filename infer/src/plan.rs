@@ -7,7 +7,7 @@
 use crate::kinematics::LinkFrames;
 use crate::planner::{PlanError, PlannedDig, Planner};
 use crate::predictor::DigPredictor;
-use crate::template::{Template, TemplateSettings, TemplateWork};
+use crate::template::{TaskNetwork, Template, TemplateSettings, TemplateWork};
 use crate::terrain::Terrain;
 use crate::trajectory::Trajectory;
 use crate::trench::{DesignProfile, ProfileMetrics, TrenchTask};
@@ -157,20 +157,44 @@ impl Planner {
         let clock = std::time::Instant::now();
         let mut work = Box::new(TemplateWork::new(self)?);
         work.plan(self, task, templates, settings)?;
+        Ok(self.plan_of(&mut work, task, clock))
+    }
+
+    /// A plan from the task network's sequence
+    /// ([`TemplateWork::plan_learned`]), as a file records it.
+    pub fn plan_learned(
+        &self,
+        task: &TrenchTask,
+        network: &TaskNetwork<'_>,
+        settings: &TemplateSettings,
+    ) -> Result<Plan, PlanError> {
+        let clock = std::time::Instant::now();
+        let mut work = Box::new(TemplateWork::new(self)?);
+        work.plan_learned(self, task, network, settings)?;
+        Ok(self.plan_of(&mut work, task, clock))
+    }
+
+    /// The plan `work` holds, timed from `clock`.
+    fn plan_of(
+        &self,
+        work: &mut TemplateWork,
+        task: &TrenchTask,
+        clock: std::time::Instant,
+    ) -> Plan {
         let design = *work.design();
         let mut digs = Vec::with_capacity(work.len());
         for i in 0..work.len() {
             let (dig, after) = work.dig(self, i).expect("a dig of the plan just made");
             digs.push(DigRecord::new(self, dig, &design, after));
         }
-        Ok(Plan {
+        Plan {
             task: *task,
             design,
             metrics: work.metrics(),
             stopped: None,
             digs,
             planning_seconds: clock.elapsed().as_secs_f64(),
-        })
+        }
     }
 }
 

@@ -2,5 +2,7 @@
 //! trajectory (`network`) and the physics of `infer` in differentiable tensor
 //! form for the physics-informed losses (`physics`).
 
+pub mod dense;
 pub mod network;
 pub mod physics;
+pub mod task_net;

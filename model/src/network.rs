@@ -14,10 +14,10 @@
 //! burn-store saves and loads them with the weights, and the optimiser
 //! leaves them alone.
 
+use crate::dense::{self, buffer_like, row, to_f64};
 use burn::module::{Module, Param};
 use burn::nn::{Linear, LinearConfig, Tanh};
 use burn::prelude::*;
-use burn::tensor::TensorData;
 use infer::DigType;
 use infer::network::{INPUTS, NetworkFile, OUTPUTS};
 use serde::{Deserialize, Serialize};
@@ -78,47 +78,11 @@ impl DigNetConfig {
     /// generator of its own: the same seed gives the same network on every
     /// backend, whatever else uses the backend's process-global RNG.
     pub fn init_seeded(&self, device: &Device, seed: u64) -> DigNet {
-        let mut state = seed;
-        let mut uniform = move || {
-            // SplitMix64 → [0, 1).
-            state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = state;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-        };
-        let widths = self.widths();
-        let layers = widths
-            .windows(2)
-            .map(|w| {
-                let (d_in, d_out) = (w[0], w[1]);
-                let k = 1.0 / (d_in as f64).sqrt();
-                let mut draw = |n: usize| -> Vec<f64> {
-                    (0..n).map(|_| (2.0 * uniform() - 1.0) * k).collect()
-                };
-                let weight = draw(d_in * d_out);
-                let bias = draw(d_out);
-                Linear {
-                    weight: Param::from_tensor(Tensor::from_data(
-                        TensorData::new(weight, [d_in, d_out]),
-                        device,
-                    )),
-                    bias: Some(Param::from_tensor(Tensor::from_data(
-                        TensorData::new(bias, [d_out]),
-                        device,
-                    ))),
-                }
-            })
-            .collect();
-        self.assemble(layers, device)
+        self.assemble(dense::seeded_layers(&self.widths(), device, seed), device)
     }
 
     fn assemble(&self, layers: Vec<Linear>, device: &Device) -> DigNet {
-        let buffer = |values: Vec<f64>| {
-            let n = values.len();
-            Param::from_tensor(Tensor::from_data(TensorData::new(values, [n]), device))
-                .set_require_grad(false)
-        };
+        let buffer = |values: Vec<f64>| dense::buffer(values, device);
         DigNet {
             layers,
             activation: Tanh::new(),
@@ -186,25 +150,6 @@ pub struct DigNet {
     pub kind: DigType,
 }
 
-fn row(v: Param<Tensor<1>>) -> Tensor<2> {
-    v.val().unsqueeze_dim::<2>(0)
-}
-
-fn buffer_like(values: &[f64], like: &Param<Tensor<1>>) -> Param<Tensor<1>> {
-    let device = like.val().device();
-    Param::from_tensor(Tensor::from_data(
-        TensorData::new(values.to_vec(), [values.len()]),
-        &device,
-    ))
-    .set_require_grad(false)
-}
-
-fn to_f64(t: Tensor<1>) -> Vec<f64> {
-    t.into_data()
-        .try_into_vec_as::<f64>()
-        .expect("a float tensor converts to f64")
-}
-
 impl DigNet {
     /// Sets the normalisation constants (from the training split).
     pub fn with_normalisation(mut self, n: &Normalisation) -> Self {
@@ -228,15 +173,8 @@ impl DigNet {
 
     /// Raw X [B, 7] → normalised prediction y_n [B, 4].
     pub fn forward(&self, x_raw: Tensor<2>) -> Tensor<2> {
-        let mut h = (x_raw - row(self.x_mean.clone())) / row(self.x_std.clone());
-        let last = self.layers.len() - 1;
-        for (i, layer) in self.layers.iter().enumerate() {
-            h = layer.forward(h);
-            if i < last {
-                h = self.activation.forward(h);
-            }
-        }
-        h
+        let h = (x_raw - row(self.x_mean.clone())) / row(self.x_std.clone());
+        dense::forward(&self.layers, &self.activation, h)
     }
 
     /// Raw X [B, 7] → raw Y [B, 4].
@@ -256,19 +194,13 @@ impl DigNet {
 
     /// Layer widths, inputs first.
     pub fn widths(&self) -> Vec<usize> {
-        let mut w = vec![self.layers[0].weight.dims()[0]];
-        w.extend(self.layers.iter().map(|l| l.weight.dims()[1]));
-        w
+        dense::widths(&self.layers)
     }
 
     /// Sum of squares of every weight matrix (biases and normalisation
     /// excluded): R(W) of spec §8, as a one-element tensor.
     pub fn weight_penalty(&self) -> Tensor<1> {
-        self.layers
-            .iter()
-            .map(|l| l.weight.val().powi_scalar(2).sum())
-            .reduce(|a, b| a + b)
-            .expect("at least one layer")
+        dense::weight_penalty(&self.layers)
     }
 
     /// The weights in `infer`'s `dig-network/2` layout, which stores W as
@@ -280,14 +212,7 @@ impl DigNet {
         params.extend(n.x_std);
         params.extend(n.y_mean);
         params.extend(n.y_std);
-        for layer in &self.layers {
-            let [d_in, d_out] = layer.weight.dims();
-            params.extend(to_f64(layer.weight.val().reshape([d_in * d_out])));
-            match &layer.bias {
-                Some(b) => params.extend(to_f64(b.val())),
-                None => params.extend(std::iter::repeat_n(0.0, d_out)),
-            }
-        }
+        dense::push_layers(&mut params, &self.layers);
         NetworkFile {
             format: NetworkFile::FORMAT.to_string(),
             dig_type: self.kind,

@@ -41,7 +41,7 @@ pub mod trajectory;
 pub mod volume;
 
 pub use dig::{Figures, VolumeModel, dig_figures, dig_figures_with, violation_names};
-pub use losses::{LossTerms, LossWeights, losses};
+pub use losses::{LossTerms, LossWeights, losses, motion_penalty};
 
 use burn::tensor::Tensor;
 

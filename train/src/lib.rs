@@ -17,6 +17,7 @@ pub mod data;
 pub mod error;
 pub mod job;
 pub mod report;
+pub mod tasks;
 pub mod training;
 
 pub use config::TrainConfig;

@@ -149,6 +149,25 @@ enum Command {
         #[command(flatten)]
         eval: EvalArgs,
     },
+    /// The learned task planner (one network per training seed) against
+    /// the templates, on eval's tasks and fresh random tasks of the
+    /// library's ranges, into OUT/report.{md,json}.
+    Learned {
+        /// Folder of the task networks (seed_<s>.json, `train_tasks`).
+        #[arg(long, default_value = "artifacts/task_network")]
+        networks: PathBuf,
+        /// Templates to compare with (`none`: not run).
+        #[arg(long, default_value = "artifacts/templates.json")]
+        templates: String,
+        /// Fresh random tasks from the library's wide ranges.
+        #[arg(long, default_value_t = 40)]
+        fresh: usize,
+        /// Seed of the fresh tasks (the library's is 7).
+        #[arg(long, default_value_t = 11)]
+        fresh_seed: u64,
+        #[arg(long, default_value = "artifacts/learned")]
+        out: PathBuf,
+    },
     /// Measure latency and accuracy figures into OUT/benchmarks.{json,md}.
     BenchSummary {
         #[arg(long, default_value = "artifacts")]
@@ -291,6 +310,13 @@ fn run(cli: Cli) -> Result<(), EvalError> {
                 out.display()
             );
         }
+        Command::Learned {
+            networks,
+            templates,
+            fresh,
+            fresh_seed,
+            out,
+        } => learned(&networks, &templates, fresh, fresh_seed, &out, progress)?,
         Command::BenchSummary {
             networks,
             out,
@@ -316,5 +342,78 @@ fn run(cli: Cli) -> Result<(), EvalError> {
             print!("{}", benchmarks::markdown(&s));
         }
     }
+    Ok(())
+}
+
+/// `eval learned`: see [`Command::Learned`].
+fn learned(
+    networks: &std::path::Path,
+    templates: &str,
+    fresh: usize,
+    fresh_seed: u64,
+    out: &std::path::Path,
+    progress: bool,
+) -> Result<(), EvalError> {
+    use eval::tasks::{RandomRanges, random_tasks, task_set};
+    let planner = infer::Planner::new(&infer::Config::default(), &Default::default())?;
+    let defaults = EvalSettings::default();
+    let mut tasks = task_set(
+        &planner,
+        defaults.random_tasks,
+        defaults.seed,
+        &defaults.ranges,
+    )?;
+    for mut t in random_tasks(&planner, fresh, fresh_seed, &RandomRanges::WIDE)? {
+        t.name = t.name.replacen('R', "F", 1);
+        tasks.push(t);
+    }
+    let mut files = Vec::new();
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(networks)
+        .map_err(|e| EvalError::BadArgument(format!("{}: {e}", networks.display())))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .is_some_and(|n| n.starts_with("seed_") && n.ends_with(".json"))
+        })
+        .collect();
+    paths.sort();
+    for p in paths {
+        let text = std::fs::read_to_string(&p)
+            .map_err(|e| EvalError::BadArgument(format!("{}: {e}", p.display())))?;
+        files.push(
+            infer::template::TaskNetworkFile::from_json(&text)
+                .map_err(|e| EvalError::BadArgument(format!("{}: {e}", p.display())))?,
+        );
+    }
+    if files.is_empty() {
+        return Err(EvalError::BadArgument(format!(
+            "{}: no seed_<s>.json task network (train_tasks writes them)",
+            networks.display()
+        )));
+    }
+    let templates = match templates {
+        "none" => Vec::new(),
+        file => TemplatePlanning {
+            file: file.into(),
+            ..TemplatePlanning::default()
+        }
+        .load()
+        .map_err(EvalError::BadArgument)?,
+    };
+    let runs = tasks.len() * (2 * files.len() + usize::from(!templates.is_empty()));
+    let bar = dataset_gen::jobs::progress_bar(runs as u64, "plans", progress);
+    let report = eval::learned::compare(
+        &planner,
+        &tasks,
+        &files,
+        &templates,
+        &Default::default(),
+        &bar,
+        &command_line(),
+    )?;
+    bar.finish_and_clear();
+    report.write(out)?;
+    print!("{}", report.markdown());
     Ok(())
 }

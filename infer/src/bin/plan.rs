@@ -9,7 +9,7 @@ use infer::cli::TaskArgs;
 use infer::network::NetworkFile;
 use infer::plan::{Plan, svg};
 use infer::planner::MoveController;
-use infer::template::{TemplateFile, TemplateSettings};
+use infer::template::{TaskNetworkFile, TemplateFile, TemplateSettings};
 use infer::{
     Config, DigPredictor, NetworkPair, PlanError, Planner, PlannerSettings, RefinePredictor,
 };
@@ -36,8 +36,15 @@ struct Args {
     /// says why and plans with the networks instead.
     #[arg(long)]
     templates: Option<PathBuf>,
-    /// Template planner settings as JSON (any field left out keeps its default).
-    #[arg(long, requires = "templates")]
+    /// Plan from this task network (`train_tasks`; e.g.
+    /// artifacts/task_network/seed_1.json): its dig sequence for the task,
+    /// checked, refitted within the template planner's bound and repaired.
+    /// If that fails, it says why and plans with the dig networks instead.
+    #[arg(long, conflicts_with = "templates")]
+    learned: Option<PathBuf>,
+    /// Template planner settings as JSON (any field left out keeps its
+    /// default), also the learned planner's.
+    #[arg(long)]
     template_settings: Option<PathBuf>,
     /// Output file stem: writes STEM.json and STEM.svg.
     #[arg(long, short = 'o', default_value = "plan")]
@@ -54,7 +61,7 @@ struct Args {
     /// machine must stand still between digs unless a dig records a move,
     /// which must replay to the position the dig stands at. Exit code
     /// 0 if it does, 1 if it does not, 2 for unreadable input.
-    #[arg(long, conflicts_with_all = ["task", "task_file", "length", "refine", "templates", "move_controller", "move_slip"])]
+    #[arg(long, conflicts_with_all = ["task", "task_file", "length", "refine", "templates", "learned", "move_controller", "move_slip"])]
     verify: Option<PathBuf>,
     /// The tracker of the machine's moves back along the trench (default:
     /// the settings', fuzzy).
@@ -153,23 +160,34 @@ fn run(args: Args) -> Result<(), String> {
     }
     let planner = Planner::new(&cfg, &settings).map_err(|e| e.to_string())?;
     planner.digs_for(&task).map_err(|e| e.to_string())?;
-    let from_templates = match &args.templates {
+    let ts: TemplateSettings = common::json_or_default(args.template_settings.as_deref())?;
+    let read =
+        |path: &Path| std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()));
+    let planned = match (&args.templates, &args.learned) {
+        (Some(path), _) => {
+            let file = TemplateFile::from_json(&read(path)?)
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+            Some((
+                "templates",
+                planner.plan_from_templates(&task, &file.templates, &ts),
+            ))
+        }
+        (None, Some(path)) => {
+            let file = TaskNetworkFile::from_json(&read(path)?)
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+            let net = file.network().map_err(|e| e.to_string())?;
+            Some(("task network", planner.plan_learned(&task, &net, &ts)))
+        }
+        (None, None) => None,
+    };
+    let from_templates = match planned {
         None => None,
-        Some(path) => {
-            let text =
-                std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-            let file =
-                TemplateFile::from_json(&text).map_err(|e| format!("{}: {e}", path.display()))?;
-            let ts: TemplateSettings = common::json_or_default(args.template_settings.as_deref())?;
-            match planner.plan_from_templates(&task, &file.templates, &ts) {
-                Ok(plan) => Some(plan),
-                // Bad settings are the caller's to fix (the task was checked above).
-                Err(e @ PlanError::Model(_)) => return Err(e.to_string()),
-                Err(e) => {
-                    eprintln!("templates: {e}; planning with the networks instead");
-                    None
-                }
-            }
+        Some((_, Ok(plan))) => Some(plan),
+        // Bad settings are the caller's to fix (the task was checked above).
+        Some((_, Err(e @ PlanError::Model(_)))) => return Err(e.to_string()),
+        Some((by, Err(e))) => {
+            eprintln!("{by}: {e}; planning with the networks instead");
+            None
         }
     };
     let plan: Plan = match from_templates {

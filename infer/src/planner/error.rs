@@ -66,7 +66,7 @@ pub enum PlanError {
         max_heading_deg: f64,
     },
     #[error(
-        "dig {dig} ({kind}, tip from ({:.3}, {:.3}) m to ({:.3}, {:.3}) m): no refit of the nearest templates is feasible within {evaluations} evaluations: {worst}",
+        "dig {dig} ({kind}, tip from ({:.3}, {:.3}) m to ({:.3}, {:.3}) m): no refit of the seeds (templates or the task network's) is feasible within {evaluations} evaluations: {worst}",
         start.x, start.y, end.x, end.y, dig = dig + 1
     )]
     Template {

@@ -28,6 +28,7 @@ mod commit;
 #[cfg(feature = "std")]
 mod file;
 mod fit;
+pub mod learned;
 mod polish;
 mod repair;
 mod search;
@@ -35,6 +36,9 @@ mod work;
 
 #[cfg(feature = "std")]
 pub use file::TemplateFile;
+pub use learned::TaskNetwork;
+#[cfg(feature = "std")]
+pub use learned::TaskNetworkFile;
 
 use crate::config::Config;
 use crate::error::Error;

@@ -2,11 +2,13 @@
 //! templates carried over as seeds, each refitted for an even share of
 //! the bound; and the plan's phases in order.
 
+use super::learned::TaskNetwork;
 use super::{
     Champion, MAX_TEMPLATE_DIGS, Played, Steps, Template, TemplateSettings, TemplateWork, WINDOW,
     WINDOW_AFTER, WINDOW_BEFORE,
 };
 use crate::planner::{PlanError, Planner};
+use crate::sequence::MAX_NEIGHBOURS;
 use crate::sequence::{DIG_VARS, DigVars, dig_box, initial_step, nearest};
 use crate::trench::{DesignProfile, TaskError, TrenchTask};
 
@@ -27,6 +29,15 @@ impl Champion {
     }
 }
 
+/// Where a plan's seeds come from.
+#[derive(Clone, Copy)]
+enum Source<'s, 'n> {
+    /// The nearest of these templates, carried over.
+    Templates(&'s [Template]),
+    /// The network's sequence for the task.
+    Network(&'s TaskNetwork<'n>),
+}
+
 /// What the seeds' search hands on: the best refit of a seed by value
 /// plus violation with the steps it reached, and the best feasible one.
 pub(super) struct Seeds {
@@ -44,14 +55,36 @@ impl TemplateWork {
         templates: &[Template],
         settings: &TemplateSettings,
     ) -> Result<(), PlanError> {
-        self.planned = 0;
-        settings.validate()?;
-        let expected = planner.digs_for(task)?;
         if templates.is_empty() {
             return Err(PlanError::NoTemplate);
         }
+        self.plan_from(planner, task, Source::Templates(templates), settings)
+    }
+
+    /// Plans `task` from the task network's sequence as the one seed,
+    /// refitted, checked and repaired as a template's would be.
+    pub fn plan_learned(
+        &mut self,
+        planner: &Planner,
+        task: &TrenchTask,
+        network: &TaskNetwork<'_>,
+        settings: &TemplateSettings,
+    ) -> Result<(), PlanError> {
+        self.plan_from(planner, task, Source::Network(network), settings)
+    }
+
+    fn plan_from(
+        &mut self,
+        planner: &Planner,
+        task: &TrenchTask,
+        source: Source<'_, '_>,
+        settings: &TemplateSettings,
+    ) -> Result<(), PlanError> {
+        self.planned = 0;
+        settings.validate()?;
+        let expected = planner.digs_for(task)?;
         self.start(planner, task)?;
-        let seeds = self.search(planner, templates, expected, settings)?;
+        let seeds = self.search(planner, source, expected, settings)?;
         self.fit(planner, seeds.champion, settings);
         if let Some(f) = seeds.fallback.filter(|_| self.best.violation > 0.0) {
             self.replay(planner, &f, settings);
@@ -95,8 +128,8 @@ impl TemplateWork {
         Ok(())
     }
 
-    /// Each of the nearest templates, carried over, is refitted for an
-    /// even share of `seed_share` of the budget. The one whose refit is
+    /// Each seed (the nearest templates, carried over, or the network's
+    /// sequence) is refitted for an even share of `seed_share` of the budget. The one whose refit is
     /// best by value plus violation (a near-feasible sequence of the right
     /// dig count beats a feasible one that leaves material; ties: the
     /// nearer) is then refitted with the rest, from the steps it reached
@@ -105,7 +138,7 @@ impl TemplateWork {
     fn search(
         &mut self,
         planner: &Planner,
-        templates: &[Template],
+        source: Source<'_, '_>,
         expected: usize,
         settings: &TemplateSettings,
     ) -> Result<Seeds, PlanError> {
@@ -116,16 +149,26 @@ impl TemplateWork {
                 v[i] = v[i].clamp(lo[i], hi[i]);
             }
         };
-        let stored = templates.iter().map(|t| (t.task, t.count));
-        let near = nearest(stored, &self.task, expected, settings.neighbours);
+        let mut near: [Option<(usize, Template)>; MAX_NEIGHBOURS] = [None; MAX_NEIGHBOURS];
+        match source {
+            Source::Templates(templates) => {
+                let stored = templates.iter().map(|t| (t.task, t.count));
+                let found = nearest(stored, &self.task, expected, settings.neighbours);
+                for (slot, i) in near.iter_mut().zip(found) {
+                    *slot = i.map(|i| (i, templates[i]));
+                }
+            }
+            Source::Network(net) => {
+                near[0] = Some((0, net.predict(cfg, &self.task, &self.design, expected)?));
+            }
+        }
         let seeds = near.iter().flatten().count();
         let per_seed = (settings.seed_share
             * (settings.max_evaluations - last_stage(settings)) as f64
             / seeds as f64) as usize;
         let mut champion: Option<(Champion, Steps)> = None;
         let mut fallback: Option<Champion> = None;
-        for (rank, i) in near.into_iter().flatten().enumerate() {
-            let t = &templates[i];
+        for (rank, (i, t)) in near.into_iter().flatten().enumerate() {
             let c = &mut self.candidate;
             c.count = t.count;
             c.vars = t.carried_to(cfg, &self.design);

@@ -125,3 +125,13 @@ fn constraint_terms(v: &Tensor<2>) -> [Tensor<1>; 3] {
     let fill = v.clone().narrow(1, VOLUME_CHECK, 1).mean();
     [joints, dig_angle, fill]
 }
+
+/// Loss2 + Loss3 with a back-off `margin`: the batch mean of
+/// Σ relu(slack + margin) over the joint, power, duration and dig-angle
+/// checks. The fill check is left out: it is the surrogate of a surface
+/// flat at H, which a dig of a sequence (on the surface earlier digs left)
+/// does not have.
+pub fn motion_penalty(figures: &Figures, margin: f64) -> Tensor<1> {
+    let [joints, dig_angle, _] = constraint_terms(&(figures.slack.clone() + margin).clamp_min(0.0));
+    joints + dig_angle
+}

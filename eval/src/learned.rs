@@ -1,0 +1,189 @@
+//! The learned task planner against the template planner: eval's tasks
+//! and fresh random tasks from the library's ranges, each planned from
+//! every training seed's task network (with the template planner's full
+//! refit bound, and with the least bound, which shows what the network
+//! gives nearly alone) and from the templates.
+
+use crate::error::{EvalError, write_file};
+use crate::tasks::NamedTask;
+use crate::whole::PlanSummary;
+use infer::Planner;
+use infer::template::{MIN_EVALUATIONS, TaskNetworkFile, Template, TemplateSettings};
+use serde::{Deserialize, Serialize};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// One planner on one task.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct LearnedRow {
+    pub task: String,
+    pub planner: String,
+    /// The plan's figures, or why there is none.
+    pub result: Result<PlanSummary, String>,
+}
+
+/// One planner over every task.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct PlannerTotals {
+    pub planner: String,
+    pub tasks: usize,
+    pub finished: usize,
+    /// Tasks whose under- and over-dug areas are each ≤ 3 % of the design.
+    pub within_3_percent: usize,
+    pub mean_under_dug: f64,
+    pub max_under_dug: f64,
+    pub max_over_dug: f64,
+    pub median_planning_ms: f64,
+    pub max_planning_ms: f64,
+    /// Digs of returned plans that break a constraint (must be 0).
+    pub infeasible_digs: usize,
+}
+
+/// The comparison.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct LearnedReport {
+    pub command: String,
+    pub tasks: Vec<NamedTask>,
+    pub totals: Vec<PlannerTotals>,
+    pub rows: Vec<LearnedRow>,
+}
+
+/// The planners compared, by name: each network at the full bound and at
+/// the least, then the templates (if any).
+pub fn compare(
+    planner: &Planner,
+    tasks: &[NamedTask],
+    networks: &[TaskNetworkFile],
+    templates: &[Template],
+    settings: &TemplateSettings,
+    bar: &indicatif::ProgressBar,
+    command: &str,
+) -> Result<LearnedReport, EvalError> {
+    let least = TemplateSettings {
+        max_evaluations: MIN_EVALUATIONS,
+        ..*settings
+    };
+    let mut rows = Vec::new();
+    for file in networks {
+        let net = file.network()?;
+        for (label, s) in [("refit", settings), ("least refit", &least)] {
+            let name = format!(
+                "learned seed {} ({label}, ≤ {} evaluations)",
+                file.seed, s.max_evaluations
+            );
+            for t in tasks {
+                let plan = planner.plan_learned(&t.task, &net, s);
+                rows.push(row(t, &name, plan));
+                bar.inc(1);
+            }
+        }
+    }
+    if !templates.is_empty() {
+        let name = format!("templates (≤ {} evaluations)", settings.max_evaluations);
+        for t in tasks {
+            let plan = planner.plan_from_templates(&t.task, templates, settings);
+            rows.push(row(t, &name, plan));
+            bar.inc(1);
+        }
+    }
+    let mut names: Vec<String> = Vec::new();
+    for r in &rows {
+        if !names.contains(&r.planner) {
+            names.push(r.planner.clone());
+        }
+    }
+    let totals = names
+        .iter()
+        .map(|n| totals(n, rows.iter().filter(|r| &r.planner == n)))
+        .collect();
+    Ok(LearnedReport {
+        command: command.into(),
+        tasks: tasks.to_vec(),
+        totals,
+        rows,
+    })
+}
+
+fn row(
+    t: &NamedTask,
+    planner: &str,
+    plan: Result<infer::plan::Plan, infer::PlanError>,
+) -> LearnedRow {
+    LearnedRow {
+        task: t.name.clone(),
+        planner: planner.into(),
+        result: plan
+            .map(|p| PlanSummary::of_plan(&p, None))
+            .map_err(|e| e.to_string()),
+    }
+}
+
+fn totals<'a>(name: &str, rows: impl Iterator<Item = &'a LearnedRow>) -> PlannerTotals {
+    let rows: Vec<&LearnedRow> = rows.collect();
+    let done: Vec<&PlanSummary> = rows.iter().filter_map(|r| r.result.as_ref().ok()).collect();
+    let mut ms: Vec<f64> = done.iter().map(|s| s.planning_seconds * 1e3).collect();
+    ms.sort_by(f64::total_cmp);
+    let max = |f: fn(&PlanSummary) -> f64| done.iter().map(|s| f(s)).fold(f64::NAN, f64::max);
+    PlannerTotals {
+        planner: name.into(),
+        tasks: rows.len(),
+        finished: done.len(),
+        within_3_percent: done
+            .iter()
+            .filter(|s| s.under_dug <= 0.03 && s.over_dug <= 0.03)
+            .count(),
+        mean_under_dug: done.iter().map(|s| s.under_dug).sum::<f64>() / done.len().max(1) as f64,
+        max_under_dug: max(|s| s.under_dug),
+        max_over_dug: max(|s| s.over_dug),
+        median_planning_ms: ms.get(ms.len() / 2).copied().unwrap_or(f64::NAN),
+        max_planning_ms: ms.last().copied().unwrap_or(f64::NAN),
+        infeasible_digs: done.iter().map(|s| s.infeasible).sum(),
+    }
+}
+
+impl LearnedReport {
+    pub fn markdown(&self) -> String {
+        let mut out = String::new();
+        let _ = writeln!(out, "# Learned task planner\n");
+        let _ = writeln!(out, "Command: `{}`\n", self.command);
+        let _ = writeln!(
+            out,
+            "{} tasks. Goals (issue 26): every task finished, each ≤ 3 % under- and over-dug, mean under-dug ≤ 2 %, 0 infeasible digs.\n",
+            self.tasks.len()
+        );
+        let _ = writeln!(
+            out,
+            "| planner | finished | ≤ 3 % | mean under | max under | max over | median ms | max ms | infeasible |\n|---|---|---|---|---|---|---|---|---|"
+        );
+        for t in &self.totals {
+            let _ = writeln!(
+                out,
+                "| {} | {}/{} | {} | {:.1} % | {:.1} % | {:.1} % | {:.1} | {:.1} | {} |",
+                t.planner,
+                t.finished,
+                t.tasks,
+                t.within_3_percent,
+                t.mean_under_dug * 100.0,
+                t.max_under_dug * 100.0,
+                t.max_over_dug * 100.0,
+                t.median_planning_ms,
+                t.max_planning_ms,
+                t.infeasible_digs
+            );
+        }
+        let _ = writeln!(
+            out,
+            "\nPlanning times are wall clock on the machine that ran the command, one task after the other; the benchmark figures are criterion's."
+        );
+        out
+    }
+
+    /// `report.md` and `report.json` in `dir`.
+    pub fn write(&self, dir: &Path) -> Result<(), EvalError> {
+        write_file(&dir.join("report.md"), &self.markdown())?;
+        write_file(
+            &dir.join("report.json"),
+            &serde_json::to_string_pretty(self)?,
+        )
+    }
+}

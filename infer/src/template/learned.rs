@@ -1,0 +1,125 @@
+//! Seeds from a network: the task network maps a task's geometry straight
+//! to its whole dig sequence, which the template planner then checks,
+//! refits within its bound and repairs like a carried-over template.
+//!
+//! Why a network and not only templates: a template is one stored task's
+//! plan stretched to the new one, so far from the library's tasks it
+//! seeds the refit badly; a network trained on the whole library
+//! interpolates between its tasks. The output is each dig's variables in
+//! the task's own search box ([`dig_box`]), u = (v − lo) / (hi − lo), so
+//! start x and the rest scale with the design as the box does.
+
+use super::{MAX_TEMPLATE_DIGS, Template};
+use crate::config::Config;
+use crate::error::Error;
+use crate::network::Network;
+use crate::sequence::{DIG_VARS, DigVars, dig_box, features};
+use crate::trench::{DesignProfile, TrenchTask};
+
+/// Inputs: L, D, β1, β2 and far edge ([`features`]).
+pub const TASK_INPUTS: usize = 5;
+/// Outputs: [`DIG_VARS`] box coordinates for each of [`MAX_TEMPLATE_DIGS`] digs.
+pub const TASK_OUTPUTS: usize = MAX_TEMPLATE_DIGS * DIG_VARS;
+
+/// The task network's forward pass, borrowing its parameters.
+#[derive(Debug, Clone, Copy)]
+pub struct TaskNetwork<'a> {
+    net: Network<'a, TASK_INPUTS, TASK_OUTPUTS>,
+}
+
+impl<'a> TaskNetwork<'a> {
+    /// Checks widths (5 inputs, 60 outputs) and parameters as
+    /// [`Network::sized`] does.
+    pub fn new(widths: &[usize], params: &'a [f64]) -> Result<Self, Error> {
+        Ok(TaskNetwork {
+            net: Network::sized(widths, params)?,
+        })
+    }
+
+    /// The first `count` digs the network gives `task` (whose design is
+    /// `design`), as a template of that task: its variables taken from box
+    /// coordinates back into the task's box. An error if `count` is 0 or
+    /// more than [`MAX_TEMPLATE_DIGS`], or the forward pass is not finite.
+    pub fn predict(
+        &self,
+        cfg: &Config,
+        task: &TrenchTask,
+        design: &DesignProfile,
+        count: usize,
+    ) -> Result<Template, Error> {
+        if count == 0 || count > MAX_TEMPLATE_DIGS {
+            return Err(Error::BadConfig {
+                field: "task network digs (1 to MAX_TEMPLATE_DIGS)",
+            });
+        }
+        let u = self.net.forward(&features(task))?;
+        let (lo, hi) = dig_box(cfg, design);
+        let mut digs = [[0.0; DIG_VARS]; MAX_TEMPLATE_DIGS];
+        for (k, dig) in digs.iter_mut().enumerate() {
+            *dig = core::array::from_fn(|i| lo[i] + u[k * DIG_VARS + i] * (hi[i] - lo[i]));
+        }
+        Template::new(*task, &digs[..count])
+    }
+}
+
+/// A dig's variables as box coordinates of `design`'s box (what the
+/// network is trained to give).
+pub fn box_coordinates(cfg: &Config, design: &DesignProfile, v: &DigVars) -> DigVars {
+    let (lo, hi) = dig_box(cfg, design);
+    core::array::from_fn(|i| (v[i] - lo[i]) / (hi[i] - lo[i]))
+}
+
+#[cfg(feature = "std")]
+pub use file::TaskNetworkFile;
+
+#[cfg(feature = "std")]
+mod file {
+    use super::TaskNetwork;
+    use crate::error::Error;
+    use serde::{Deserialize, Serialize};
+    use std::string::String;
+    use std::vec::Vec;
+
+    /// The exported task network (`artifacts/task_network/*.json`).
+    #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+    #[serde(deny_unknown_fields)]
+    pub struct TaskNetworkFile {
+        /// Always [`TaskNetworkFile::FORMAT`].
+        pub format: String,
+        /// Layer widths, inputs first: e.g. [5, 64, 64, 60].
+        pub widths: Vec<usize>,
+        /// μ_x σ_x μ_y σ_y, then per layer W (in × out) and b, as
+        /// [`crate::network`] lays them out.
+        pub params: Vec<f64>,
+        /// The training seed (for the report; not used by the forward pass).
+        pub seed: u64,
+    }
+
+    impl TaskNetworkFile {
+        pub const FORMAT: &'static str = "task-network/1";
+
+        /// Parses and checks a JSON export.
+        pub fn from_json(text: &str) -> Result<Self, String> {
+            let file: TaskNetworkFile =
+                serde_json::from_str(text).map_err(|e| format!("task network file: {e}"))?;
+            if file.format != Self::FORMAT {
+                return Err(format!(
+                    "task network file: format `{}`, expected `{}`",
+                    file.format,
+                    Self::FORMAT
+                ));
+            }
+            file.network()
+                .map_err(|e| format!("task network file: {e}"))?;
+            Ok(file)
+        }
+
+        pub fn to_json(&self) -> String {
+            serde_json::to_string(self).expect("a TaskNetworkFile always serialises")
+        }
+
+        pub fn network(&self) -> Result<TaskNetwork<'_>, Error> {
+            TaskNetwork::new(&self.widths, &self.params)
+        }
+    }
+}

@@ -1,0 +1,143 @@
+//! The learned seed: a task network's sequence planned as a template's
+//! would be, and what it must never do (break a limit, allocate per plan,
+//! panic on a bad network).
+#![allow(clippy::result_large_err)] // PlanError carries the violated constraint by value
+
+use infer::sequence::DIG_VARS;
+use infer::template::learned::{TASK_OUTPUTS, box_coordinates};
+use infer::template::{TaskNetwork, TaskNetworkFile, TemplateFile, TemplateSettings, TemplateWork};
+use infer::{Config, DesignProfile, Planner, PlannerSettings, TrenchTask};
+use std::path::Path;
+
+#[path = "common/counting.rs"]
+mod counting;
+use counting::allocations;
+
+fn planner() -> Planner {
+    Planner::new(&Config::default(), &PlannerSettings::default()).unwrap()
+}
+
+/// Widths [5, 1, 60] with zero weights: the output is μ_y, whatever the task.
+fn constant_network(u: &[f64; TASK_OUTPUTS]) -> (Vec<usize>, Vec<f64>) {
+    let mut p = vec![0.0; 5];
+    p.extend([1.0; 5]);
+    p.extend(u);
+    p.extend([1.0; TASK_OUTPUTS]);
+    p.extend(vec![0.0; 5 + 1 + TASK_OUTPUTS + TASK_OUTPUTS]);
+    (vec![5, 1, TASK_OUTPUTS], p)
+}
+
+/// A network that gives task A the shipped template the template planner
+/// plans A from, carried over to A, and that template.
+fn network_for_a(planner: &Planner) -> (Vec<usize>, Vec<f64>, infer::Template) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/templates.json");
+    let file = TemplateFile::from_json(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let task = TrenchTask::reference('A').unwrap();
+    let design = DesignProfile::new(planner.config(), &task);
+    let mut work = Box::new(TemplateWork::new(planner).unwrap());
+    work.plan(
+        planner,
+        &task,
+        &file.templates,
+        &TemplateSettings::default(),
+    )
+    .unwrap();
+    let t = file.templates[work.seed()];
+    let count = t.digs().len();
+    let carried = t.carried_to(planner.config(), &design);
+    let mut u = [0.0; TASK_OUTPUTS];
+    for (k, v) in carried[..count].iter().enumerate() {
+        u[k * DIG_VARS..(k + 1) * DIG_VARS].copy_from_slice(&box_coordinates(
+            planner.config(),
+            &design,
+            v,
+        ));
+    }
+    let (w, p) = constant_network(&u);
+    (w, p, t)
+}
+
+#[test]
+fn the_network_seed_is_its_box_coordinates_in_the_tasks_box() {
+    let planner = planner();
+    let (widths, params, template) = network_for_a(&planner);
+    let net = TaskNetwork::new(&widths, &params).unwrap();
+    let task = TrenchTask::reference('A').unwrap();
+    let design = DesignProfile::new(planner.config(), &task);
+    let count = template.digs().len();
+    let seed = net
+        .predict(planner.config(), &task, &design, count)
+        .unwrap();
+    let carried = template.carried_to(planner.config(), &design);
+    for (a, b) in seed.digs().iter().zip(&carried[..count]) {
+        for i in 0..DIG_VARS {
+            assert!((a[i] - b[i]).abs() < 1e-12, "{} vs {}", a[i], b[i]);
+        }
+    }
+    for bad in [0, 7] {
+        assert!(net.predict(planner.config(), &task, &design, bad).is_err());
+    }
+}
+
+#[test]
+fn a_learned_plan_is_feasible_bounded_repeatable_and_allocation_free() {
+    let planner = planner();
+    let (widths, params, _) = network_for_a(&planner);
+    let net = TaskNetwork::new(&widths, &params).unwrap();
+    let task = TrenchTask::reference('A').unwrap();
+    let settings = TemplateSettings::default();
+    let plan = planner.plan_learned(&task, &net, &settings).unwrap();
+    assert!(!plan.digs.is_empty());
+    // Replayed from flat ground, every dig holds under the exact model.
+    assert_eq!(plan.verify(&planner).unwrap(), plan.metrics);
+    let spent: usize = plan.digs.iter().map(|r| r.dig.evaluations).sum();
+    assert!(spent <= settings.max_evaluations, "{spent} evaluations");
+    let again = planner.plan_learned(&task, &net, &settings).unwrap();
+    assert_eq!(
+        serde_json::to_value(&plan.digs).unwrap(),
+        serde_json::to_value(&again.digs).unwrap()
+    );
+    let mut work = Box::new(TemplateWork::new(&planner).unwrap());
+    let before = allocations();
+    work.plan_learned(&planner, &task, &net, &settings).unwrap();
+    assert_eq!(
+        allocations(),
+        before,
+        "TemplateWork::plan_learned allocated"
+    );
+}
+
+#[test]
+fn a_bad_network_gives_an_error() {
+    let planner = planner();
+    let (widths, params, _) = network_for_a(&planner);
+    // Wrong widths, wrong counts, NaN and σ ≤ 0 are refused when read.
+    assert!(TaskNetwork::new(&[5, 1, 59], &params).is_err());
+    assert!(TaskNetwork::new(&widths, &params[1..]).is_err());
+    let mut nan = params.clone();
+    nan[20] = f64::NAN;
+    assert!(TaskNetwork::new(&widths, &nan).is_err());
+    let mut sigma = params.clone();
+    sigma[6] = 0.0;
+    assert!(TaskNetwork::new(&widths, &sigma).is_err());
+    // A task the network's inputs overflow on gives an error, not a NaN plan.
+    let net = TaskNetwork::new(&widths, &params).unwrap();
+    let mut task = TrenchTask::reference('A').unwrap();
+    task.length = f64::NAN;
+    assert!(
+        planner
+            .plan_learned(&task, &net, &TemplateSettings::default())
+            .is_err()
+    );
+    // The file form checks the same and names the format.
+    let file = TaskNetworkFile {
+        format: TaskNetworkFile::FORMAT.into(),
+        widths: widths.clone(),
+        params: nan,
+        seed: 1,
+    };
+    assert!(TaskNetworkFile::from_json(&file.to_json()).is_err());
+    let good = TaskNetworkFile { params, ..file };
+    assert!(TaskNetworkFile::from_json(&good.to_json()).is_ok());
+    assert!(TaskNetworkFile::from_json(&good.to_json().replace("task-network/1", "x")).is_err());
+}

@@ -1,0 +1,97 @@
+//! The task network: a trench task's geometry X = [L, D, β1, β2, far edge]
+//! → its whole dig sequence, each dig's variables as coordinates of the
+//! task's search box (`infer::template::learned`), for 6 digs. Dense tanh
+//! layers with the input and output normalisation stored in the module,
+//! as [`crate::network::DigNet`]; [`TaskNet::export`] writes the
+//! `task-network/1` file that `infer::template::TaskNetwork` evaluates.
+
+use crate::dense::{self, buffer_like, row, to_f64};
+use burn::module::{Module, Param};
+use burn::nn::{Linear, Tanh};
+use burn::prelude::*;
+use infer::template::TaskNetworkFile;
+use infer::template::learned::{TASK_INPUTS, TASK_OUTPUTS};
+
+/// The network (see the module docs).
+#[derive(Module, Debug)]
+pub struct TaskNet {
+    pub layers: Vec<Linear>,
+    pub activation: Tanh,
+    pub x_mean: Param<Tensor<1>>,
+    pub x_std: Param<Tensor<1>>,
+    pub y_mean: Param<Tensor<1>>,
+    pub y_std: Param<Tensor<1>>,
+}
+
+/// Means and standard deviations of inputs and outputs (a column without
+/// spread gets σ = 1).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TaskNormalisation {
+    pub x_mean: Vec<f64>,
+    pub x_std: Vec<f64>,
+    pub y_mean: Vec<f64>,
+    pub y_std: Vec<f64>,
+}
+
+impl TaskNet {
+    /// A fresh network with these hidden widths, seeded as
+    /// [`dense::seeded_layers`], normalised by `n`.
+    pub fn init(hidden: &[usize], n: &TaskNormalisation, device: &Device, seed: u64) -> Self {
+        let mut widths = vec![TASK_INPUTS];
+        widths.extend(hidden);
+        widths.push(TASK_OUTPUTS);
+        let buffer = |v: &[f64]| dense::buffer(v.to_vec(), device);
+        TaskNet {
+            layers: dense::seeded_layers(&widths, device, seed),
+            activation: Tanh::new(),
+            x_mean: buffer(&n.x_mean),
+            x_std: buffer(&n.x_std),
+            y_mean: buffer(&n.y_mean),
+            y_std: buffer(&n.y_std),
+        }
+    }
+
+    /// Raw X [B, 5] → normalised box coordinates [B, 60].
+    pub fn forward(&self, x_raw: Tensor<2>) -> Tensor<2> {
+        let h = (x_raw - row(self.x_mean.clone())) / row(self.x_std.clone());
+        dense::forward(&self.layers, &self.activation, h)
+    }
+
+    /// Normalised → box coordinates.
+    pub fn denormalise_y(&self, y_n: Tensor<2>) -> Tensor<2> {
+        y_n * row(self.y_std.clone()) + row(self.y_mean.clone())
+    }
+
+    /// Box coordinates → normalised.
+    pub fn normalise_y(&self, y: Tensor<2>) -> Tensor<2> {
+        (y - row(self.y_mean.clone())) / row(self.y_std.clone())
+    }
+
+    pub fn weight_penalty(&self) -> Tensor<1> {
+        dense::weight_penalty(&self.layers)
+    }
+
+    /// The weights in `infer`'s layout, tagged with the training seed.
+    pub fn export(&self, seed: u64) -> TaskNetworkFile {
+        let mut params = Vec::new();
+        for p in [&self.x_mean, &self.x_std, &self.y_mean, &self.y_std] {
+            params.extend(to_f64(p.val()));
+        }
+        dense::push_layers(&mut params, &self.layers);
+        TaskNetworkFile {
+            format: TaskNetworkFile::FORMAT.into(),
+            widths: dense::widths(&self.layers),
+            params,
+            seed,
+        }
+    }
+
+    /// Replaces the normalisation (e.g. after loading a record).
+    pub fn with_normalisation(mut self, n: &TaskNormalisation) -> Self {
+        self.x_mean = buffer_like(&n.x_mean, &self.x_mean);
+        self.x_std = buffer_like(&n.x_std, &self.x_std);
+        self.y_mean = buffer_like(&n.y_mean, &self.y_mean);
+        self.y_std = buffer_like(&n.y_std, &self.y_std);
+        self
+    }
+}

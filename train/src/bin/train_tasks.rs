@@ -1,0 +1,116 @@
+//! `train_tasks`: train the task network (a trench task's geometry → its
+//! whole dig sequence) on a plan library, once per seed, and write each
+//! seed's network with a report. See `train/README.md`.
+
+use clap::Parser;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use train::config::RuntimeConfig;
+use train::tasks::report::{SeedRun, TaskTrainReport, plot};
+use train::tasks::{TaskTrainSettings, load_library, train_task_network};
+
+#[derive(Parser, Debug)]
+#[command(about = "Train the task network on a plan library (one network per seed)")]
+struct Cli {
+    /// Library folder (`dataset_gen library` writes it).
+    #[arg(long, default_value = "runs/library")]
+    library: PathBuf,
+    /// Output folder: seed_<s>.json per seed, report.{md,json}, loss.svg.
+    #[arg(long, default_value = "artifacts/task_network")]
+    out: PathBuf,
+    /// Training seeds, comma-separated.
+    #[arg(long, default_value = "1,2,3", value_delimiter = ',')]
+    seeds: Vec<u64>,
+    /// Training settings as JSON (any field left out keeps its default).
+    #[arg(long)]
+    settings: Option<PathBuf>,
+    #[arg(long)]
+    epochs: Option<usize>,
+    /// Weight of the physics term (0: data only).
+    #[arg(long)]
+    physics: Option<f64>,
+    #[arg(long)]
+    no_progress: bool,
+}
+
+fn run(cli: &Cli) -> Result<(), String> {
+    let mut settings: TaskTrainSettings = match &cli.settings {
+        Some(p) => {
+            let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
+            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", p.display()))?
+        }
+        None => TaskTrainSettings::default(),
+    };
+    if let Some(v) = cli.epochs {
+        settings.epochs = v;
+    }
+    if let Some(v) = cli.physics {
+        settings.physics = v;
+    }
+    if cli.seeds.is_empty() {
+        return Err("--seeds: at least one seed".into());
+    }
+    let planner = infer::Planner::new(&infer::Config::default(), &Default::default())
+        .map_err(|e| e.to_string())?;
+    let (samples, skipped) = load_library(&cli.library, &planner).map_err(|e| e.to_string())?;
+    std::fs::create_dir_all(&cli.out).map_err(|e| format!("{}: {e}", cli.out.display()))?;
+    let runtime = RuntimeConfig {
+        backend: "flex".into(),
+        dtype: "f64".into(),
+        threads: 1,
+        checkpoint_every: usize::MAX,
+    };
+    let mut runs = Vec::new();
+    let (mut n_train, mut n_val) = (0, 0);
+    for &seed in &cli.seeds {
+        let outcome = train_task_network(&samples, &settings, seed, &runtime, !cli.no_progress)
+            .map_err(|e| e.to_string())?;
+        let file = cli.out.join(format!("seed_{seed}.json"));
+        write(&file, &outcome.net.export(seed).to_json())?;
+        let last = *outcome.log.last().expect("at least one epoch");
+        eprintln!(
+            "seed {seed}: validation data {:.4}, physics {:.4}, {:.0} s → {}",
+            last.validation.data,
+            last.validation.physics,
+            outcome.seconds,
+            file.display()
+        );
+        (n_train, n_val) = (outcome.train_tasks, outcome.validation_tasks);
+        runs.push(SeedRun {
+            seed,
+            seconds: outcome.seconds,
+            last,
+            log: outcome.log,
+        });
+    }
+    let report = TaskTrainReport {
+        library: cli.library.display().to_string(),
+        settings,
+        train_tasks: n_train,
+        validation_tasks: n_val,
+        skipped,
+        runs,
+    };
+    write(&cli.out.join("report.md"), &report.markdown())?;
+    write(
+        &cli.out.join("report.json"),
+        &serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?,
+    )?;
+    plot(&cli.out.join("loss.svg"), &report.runs).map_err(|e| e.to_string())?;
+    println!("{}", report.markdown());
+    Ok(())
+}
+
+fn write(path: &Path, text: &str) -> Result<(), String> {
+    std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+fn main() -> ExitCode {
+    match run(&Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,430 @@
+//! Training the task network (`model::task_net`) on a plan library: each
+//! task's geometry → its whole dig sequence.
+//!
+//! The loss has two parts:
+//! - data: the mean, over the digs a plan has, of the squared error of the
+//!   dig's 10 normalised box coordinates (digs past a plan's count are
+//!   masked out);
+//! - physics: every predicted dig's motion checks under the tensor physics
+//!   (`model::physics::motion_penalty`), its Y = [a16, a26, a36, T] taken
+//!   from the predicted bends and T, its query (joint angles at start and
+//!   end, and H) from the library plan's dig (teacher forcing: the query
+//!   of the predicted start and end would need the surface the earlier
+//!   digs left, which has no tensor form here).
+//!
+//! The profile error of the whole sequence is not in the loss: carving the
+//! surface has no tensor form yet. The planner checks every dig and the
+//! profile with the exact model and refits (`infer::template::learned`).
+
+use crate::data::derive_seed;
+use crate::error::TrainError;
+use crate::training::make_device;
+use burn::optim::{AdamConfig, GradientsParams};
+use burn::prelude::*;
+use burn::tensor::TensorData;
+use dataset_gen::jobs::progress_bar;
+use infer::template::Template;
+use infer::template::learned::{TASK_INPUTS, TASK_OUTPUTS, box_coordinates};
+use infer::{DigType, Planner};
+use model::physics::{dig_figures, motion_penalty};
+use model::task_net::{TaskNet, TaskNormalisation};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use std::time::Instant;
+
+/// Variables per dig (`infer::sequence::DIG_VARS`).
+const VARS: usize = infer::sequence::DIG_VARS;
+/// Digs the network gives (`infer::template::MAX_TEMPLATE_DIGS`).
+const DIGS: usize = infer::template::MAX_TEMPLATE_DIGS;
+
+/// One library plan as a training sample.
+#[derive(Debug, Clone)]
+pub struct TaskSample {
+    /// Its task number in the library (which split it falls in).
+    pub index: usize,
+    /// L, D, β1, β2, far edge.
+    pub x: [f64; TASK_INPUTS],
+    /// Box coordinates of each dig; zeros past `count`.
+    pub y: [f64; TASK_OUTPUTS],
+    pub count: usize,
+    /// Each dig's type and query X = [θs1..3, θe1..3, H].
+    pub queries: Vec<(DigType, [f64; 7])>,
+}
+
+/// Plans a library could not give as samples, and why.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct Skipped {
+    pub plans: Vec<(String, String)>,
+}
+
+/// The library's plans (a folder of `task_NNN.json`, as `dataset_gen
+/// library` writes) as samples; a plan that is not a template of at most
+/// 6 digs at base_x = 0 is skipped and named.
+pub fn load_library(
+    dir: &Path,
+    planner: &Planner,
+) -> Result<(Vec<TaskSample>, Skipped), TrainError> {
+    let lib = dataset_gen::library::Library::load(dir)?;
+    let cfg = planner.config();
+    let mut samples = Vec::new();
+    let mut skipped = Skipped::default();
+    for (path, plan) in &lib.plans {
+        let name = path.display().to_string();
+        // task_NNN.json is the library's task NNN: the split holds however
+        // much of the library is built.
+        let index = path
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .and_then(|s| s.strip_prefix("task_"))
+            .and_then(|n| n.parse::<usize>().ok())
+            .ok_or_else(|| TrainError::BadData {
+                path: path.clone(),
+                detail: "not a task_NNN.json library entry".into(),
+            })?;
+        let template = match Template::from_plan(planner, plan) {
+            Ok(t) => t,
+            Err(e) => {
+                skipped.plans.push((name, e.to_string()));
+                continue;
+            }
+        };
+        let mut y = [0.0; TASK_OUTPUTS];
+        for (k, v) in template.digs().iter().enumerate() {
+            let u = box_coordinates(cfg, &plan.design, v);
+            y[k * VARS..(k + 1) * VARS].copy_from_slice(&u);
+        }
+        samples.push(TaskSample {
+            index,
+            x: infer::sequence::features(&plan.task),
+            y,
+            count: template.digs().len(),
+            queries: plan
+                .digs
+                .iter()
+                .map(|r| (r.dig.kind, r.dig.query.input()))
+                .collect(),
+        });
+    }
+    if samples.is_empty() {
+        return Err(TrainError::BadData {
+            path: dir.to_path_buf(),
+            detail: "no plan of the library can be a training sample".into(),
+        });
+    }
+    Ok((samples, skipped))
+}
+
+/// Every eighth task (by library index) validates; the rest train.
+pub fn is_validation(s: &TaskSample) -> bool {
+    s.index % 8 == 0
+}
+
+/// How a task network is trained.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TaskTrainSettings {
+    pub hidden: Vec<usize>,
+    pub epochs: usize,
+    pub batch_size: usize,
+    pub learning_rate: f64,
+    /// Factor on the learning rate per epoch.
+    pub decay: f64,
+    /// Weight of the physics term next to the data term.
+    pub physics: f64,
+    /// Back-off of the motion checks (normalised distance inside each bound).
+    pub margin: f64,
+    /// Time samples of the tensor physics.
+    pub time_samples: usize,
+    /// Weight of R(W).
+    pub regulariser: f64,
+}
+
+impl Default for TaskTrainSettings {
+    fn default() -> Self {
+        TaskTrainSettings {
+            hidden: vec![64, 64],
+            epochs: 1500,
+            batch_size: 32,
+            learning_rate: 3e-3,
+            decay: 0.998,
+            physics: 0.1,
+            margin: 0.02,
+            time_samples: 33,
+            regulariser: 1e-6,
+        }
+    }
+}
+
+impl TaskTrainSettings {
+    pub fn validate(&self) -> Result<(), TrainError> {
+        let ok = !self.hidden.is_empty()
+            && self.hidden.iter().all(|&w| (1..=256).contains(&w))
+            && self.hidden.len() < 8
+            && self.epochs > 0
+            && self.batch_size > 0
+            && self.learning_rate > 0.0
+            && self.decay > 0.0
+            && self.decay <= 1.0
+            && self.physics >= 0.0
+            && self.margin >= 0.0
+            && self.time_samples >= 3
+            && self.regulariser >= 0.0
+            && [
+                self.learning_rate,
+                self.decay,
+                self.physics,
+                self.margin,
+                self.regulariser,
+            ]
+            .iter()
+            .all(|v| v.is_finite());
+        if ok {
+            Ok(())
+        } else {
+            Err(TrainError::Config(
+                "task training: hidden 1–7 layers of 1–256, epochs, batch size and time samples (≥ 3) positive, learning rate > 0, decay in (0, 1], weights and margin ≥ 0".into(),
+            ))
+        }
+    }
+}
+
+/// The loss terms of one epoch.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct TaskTerms {
+    pub data: f64,
+    pub physics: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TaskEpoch {
+    pub epoch: usize,
+    pub train: TaskTerms,
+    pub validation: TaskTerms,
+}
+
+/// A trained network and how it got there.
+#[derive(Debug)]
+pub struct TaskOutcome {
+    pub net: TaskNet,
+    pub log: Vec<TaskEpoch>,
+    pub seconds: f64,
+    pub train_tasks: usize,
+    pub validation_tasks: usize,
+}
+
+/// The least σ of an output: box coordinates lie in [0, 1], and a dig
+/// variable that barely varies over the library (a late dig's, which few
+/// plans have) must not weigh its rounding as a large error.
+const MIN_OUTPUT_STD: f64 = 0.05;
+
+fn normalisation(train: &[&TaskSample]) -> TaskNormalisation {
+    let stats = |cols: usize, value: &dyn Fn(&TaskSample, usize) -> Option<f64>, floor: f64| {
+        let mut mean = vec![0.0; cols];
+        let mut std = vec![1.0; cols];
+        for j in 0..cols {
+            let v: Vec<f64> = train.iter().filter_map(|s| value(s, j)).collect();
+            if v.is_empty() {
+                continue;
+            }
+            let m = v.iter().sum::<f64>() / v.len() as f64;
+            let s = (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / v.len() as f64).sqrt();
+            mean[j] = m;
+            std[j] = if s > 1e-9 { s.max(floor) } else { 1.0 };
+        }
+        (mean, std)
+    };
+    let (x_mean, x_std) = stats(TASK_INPUTS, &|s, j| Some(s.x[j]), 0.0);
+    let (y_mean, y_std) = stats(
+        TASK_OUTPUTS,
+        &|s, j| (j / VARS < s.count).then_some(s.y[j]),
+        MIN_OUTPUT_STD,
+    );
+    TaskNormalisation {
+        x_mean,
+        x_std,
+        y_mean,
+        y_std,
+    }
+}
+
+/// A batch on `device`: X [B, 5], box coordinates [B, 60], the mask of
+/// the digs each plan has [B, 60], and per dig type the one-hot rows that
+/// pick its digs out of the [B·6, 10] predictions with their queries.
+struct Batch {
+    x: Tensor<2>,
+    y: Tensor<2>,
+    mask: Tensor<2>,
+    digs: f64,
+    by_type: Vec<(DigType, Tensor<2>, Tensor<2>)>,
+}
+
+fn batch(samples: &[&TaskSample], device: &Device) -> Batch {
+    let b = samples.len();
+    let mut x = Vec::with_capacity(b * TASK_INPUTS);
+    let mut y = Vec::with_capacity(b * TASK_OUTPUTS);
+    let mut mask = Vec::with_capacity(b * TASK_OUTPUTS);
+    let mut digs = 0;
+    for s in samples {
+        x.extend(s.x);
+        y.extend(s.y);
+        mask.extend((0..TASK_OUTPUTS).map(|j| if j / VARS < s.count { 1.0 } else { 0.0 }));
+        digs += s.count;
+    }
+    let by_type = [DigType::Downward, DigType::Backward]
+        .into_iter()
+        .filter_map(|kind| {
+            let rows: Vec<(usize, [f64; 7])> = samples
+                .iter()
+                .enumerate()
+                .flat_map(|(i, s)| {
+                    s.queries
+                        .iter()
+                        .enumerate()
+                        .filter(move |(_, (k, _))| *k == kind)
+                        .map(move |(d, (_, q))| (i * DIGS + d, *q))
+                })
+                .collect();
+            if rows.is_empty() {
+                return None;
+            }
+            let n = rows.len();
+            let mut pick = vec![0.0; n * b * DIGS];
+            let mut queries: Vec<f64> = Vec::with_capacity(n * 7);
+            for (r, (col, q)) in rows.iter().enumerate() {
+                pick[r * b * DIGS + col] = 1.0;
+                queries.extend(q);
+            }
+            Some((
+                kind,
+                Tensor::from_data(TensorData::new(pick, [n, b * DIGS]), device),
+                Tensor::from_data(TensorData::new(queries, [n, 7]), device),
+            ))
+        })
+        .collect();
+    Batch {
+        x: Tensor::from_data(TensorData::new(x, [b, TASK_INPUTS]), device),
+        y: Tensor::from_data(TensorData::new(y, [b, TASK_OUTPUTS]), device),
+        mask: Tensor::from_data(TensorData::new(mask, [b, TASK_OUTPUTS]), device),
+        digs: digs as f64,
+        by_type,
+    }
+}
+
+/// Data and physics terms of a batch, and their weighted total.
+fn terms(
+    net: &TaskNet,
+    batch: &Batch,
+    cfg: &infer::Config,
+    s: &TaskTrainSettings,
+) -> (Tensor<1>, Tensor<1>, Tensor<1>) {
+    let y_n = net.forward(batch.x.clone());
+    let target_n = net.normalise_y(batch.y.clone());
+    let data = ((y_n.clone() - target_n).square() * batch.mask.clone()).sum() / batch.digs;
+    let u = net.denormalise_y(y_n);
+    let b = u.dims()[0];
+    let per_dig = u.reshape([b * DIGS, VARS]);
+    let [t0, t1] = cfg.objective.duration;
+    let device = batch.x.device();
+    let mut physics = Tensor::<1>::zeros([1], &device);
+    for (kind, pick, queries) in &batch.by_type {
+        let d = pick.clone().matmul(per_dig.clone());
+        // Box coordinates → bends in [−1, 1] rad and T in [t0, t1].
+        let bends = d.clone().narrow(1, 6, 3) * 2.0 - 1.0;
+        let duration = d.narrow(1, 9, 1) * (t1 - t0) + t0;
+        let half6 = (duration.clone() / 2.0).powi_scalar(6);
+        let y = Tensor::cat(vec![bends / half6, duration], 1);
+        let figures = dig_figures(cfg, *kind, queries.clone(), y);
+        let n = pick.dims()[0] as f64;
+        physics = physics + motion_penalty(&figures, s.margin) * (n / batch.digs);
+    }
+    let total = data.clone() + physics.clone() * s.physics + net.weight_penalty() * s.regulariser;
+    (data, physics, total)
+}
+
+fn read(t: &Tensor<1>) -> f64 {
+    t.clone().into_scalar::<f64>()
+}
+
+/// Trains one network on the training split of `samples` with `seed`
+/// (initial weights and batch order); logs both splits every epoch.
+pub fn train_task_network(
+    samples: &[TaskSample],
+    settings: &TaskTrainSettings,
+    seed: u64,
+    backend: &crate::config::RuntimeConfig,
+    progress: bool,
+) -> Result<TaskOutcome, TrainError> {
+    settings.validate()?;
+    let train: Vec<&TaskSample> = samples.iter().filter(|s| !is_validation(s)).collect();
+    let validation: Vec<&TaskSample> = samples.iter().filter(|s| is_validation(s)).collect();
+    if train.is_empty() || validation.is_empty() {
+        return Err(TrainError::Config(format!(
+            "task training needs tasks in both splits (every eighth validates): {} train, {} validation",
+            train.len(),
+            validation.len()
+        )));
+    }
+    let base = make_device(backend, seed)?;
+    let device = base.clone().autodiff();
+    let cfg = infer::Config {
+        time_samples: settings.time_samples,
+        ..infer::Config::default()
+    };
+    let norm = normalisation(&train);
+    let mut net = TaskNet::init(
+        &settings.hidden,
+        &norm,
+        &device,
+        derive_seed(seed, 0x7A5C, 0),
+    );
+    let mut optim = AdamConfig::new().init();
+    let validation_batch = batch(&validation, &base);
+    let bar = progress_bar(settings.epochs as u64, "epochs", progress);
+    bar.set_message(format!("task network, seed {seed}"));
+    let started = Instant::now();
+    let mut log = Vec::with_capacity(settings.epochs);
+    let mut order: Vec<usize> = (0..train.len()).collect();
+    for epoch in 0..settings.epochs {
+        let lr = settings.learning_rate * settings.decay.powi(epoch as i32);
+        order.sort_unstable();
+        infer::rng::SplitMix64::new(derive_seed(seed, 0xE90C, epoch as u64)).shuffle(&mut order);
+        let mut sums = TaskTerms::default();
+        for chunk in order.chunks(settings.batch_size) {
+            let picked: Vec<&TaskSample> = chunk.iter().map(|&i| train[i]).collect();
+            let (data, physics, total) = terms(&net, &batch(&picked, &device), &cfg, settings);
+            let w = chunk.len() as f64 / train.len() as f64;
+            sums.data += read(&data) * w;
+            sums.physics += read(&physics) * w;
+            if !(sums.data.is_finite() && sums.physics.is_finite()) {
+                return Err(TrainError::NonFiniteLoss {
+                    epoch: epoch + 1,
+                    batch: 0,
+                    terms: format!("data {} physics {}", sums.data, sums.physics),
+                });
+            }
+            let grads = GradientsParams::from_grads(total.backward(), &net);
+            net = optim.step(lr, net, grads);
+        }
+        let valid = net.valid();
+        let (data, physics, _) = terms(&valid, &validation_batch, &cfg, settings);
+        let validation = TaskTerms {
+            data: read(&data),
+            physics: read(&physics),
+        };
+        log.push(TaskEpoch {
+            epoch: epoch + 1,
+            train: sums,
+            validation,
+        });
+        bar.set_position(epoch as u64 + 1);
+    }
+    bar.finish_and_clear();
+    Ok(TaskOutcome {
+        net: net.valid(),
+        log,
+        seconds: started.elapsed().as_secs_f64(),
+        train_tasks: train.len(),
+        validation_tasks: validation.len(),
+    })
+}
+pub mod report;

@@ -1,0 +1,148 @@
+//! What `train_tasks` writes beside the networks: the per-seed table
+//! (Markdown and JSON) and the loss curves of every seed (SVG).
+
+use super::{Skipped, TaskEpoch, TaskTrainSettings};
+use crate::error::TrainError;
+use serde::{Deserialize, Serialize};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// One seed's run.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct SeedRun {
+    pub seed: u64,
+    pub seconds: f64,
+    pub last: TaskEpoch,
+    pub log: Vec<TaskEpoch>,
+}
+
+/// Every seed's run on one library.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct TaskTrainReport {
+    pub library: String,
+    pub settings: TaskTrainSettings,
+    pub train_tasks: usize,
+    pub validation_tasks: usize,
+    pub skipped: Skipped,
+    pub runs: Vec<SeedRun>,
+}
+
+impl TaskTrainReport {
+    pub fn markdown(&self) -> String {
+        let mut out = String::new();
+        let _ = writeln!(out, "# Task network training\n");
+        let _ = writeln!(
+            out,
+            "Library `{}`: {} tasks train, {} validate (every eighth), {} plans skipped. Hidden layers {:?}, {} epochs, physics weight {}, margin {}.\n",
+            self.library,
+            self.train_tasks,
+            self.validation_tasks,
+            self.skipped.plans.len(),
+            self.settings.hidden,
+            self.settings.epochs,
+            self.settings.physics,
+            self.settings.margin,
+        );
+        let _ = writeln!(
+            out,
+            "| seed | train data | train physics | validation data | validation physics | seconds |\n|---|---|---|---|---|---|"
+        );
+        for r in &self.runs {
+            let l = &r.last;
+            let _ = writeln!(
+                out,
+                "| {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.0} |",
+                r.seed,
+                l.train.data,
+                l.train.physics,
+                l.validation.data,
+                l.validation.physics,
+                r.seconds
+            );
+        }
+        let _ = writeln!(
+            out,
+            "\nData: mean over digs of the squared error of the 10 normalised box coordinates. Physics: mean over digs of the motion checks' penalty with the margin (teacher-forced queries). Loss curves: `loss.svg`. Quality on tasks: `eval learned`."
+        );
+        out
+    }
+}
+
+/// Validation data and physics terms of every seed over the epochs
+/// (log scale), one panel each.
+pub fn plot(path: &Path, runs: &[SeedRun]) -> Result<(), TrainError> {
+    use plotters::prelude::*;
+    let e = |m: String| TrainError::BadData {
+        path: path.to_path_buf(),
+        detail: format!("plot: {m}"),
+    };
+    let root = SVGBackend::new(path, (1000, 420)).into_drawing_area();
+    root.fill(&WHITE).map_err(|x| e(x.to_string()))?;
+    let panels = root.split_evenly((1, 2));
+    let colours = [
+        RGBColor(31, 119, 180),
+        RGBColor(255, 127, 14),
+        RGBColor(44, 160, 44),
+        RGBColor(214, 39, 40),
+        RGBColor(148, 103, 189),
+    ];
+    const FLOOR: f64 = 1e-7;
+    for (k, panel) in panels.iter().enumerate() {
+        let pick = |l: &TaskEpoch, val: bool| {
+            let t = if val { l.validation } else { l.train };
+            [t.data, t.physics][k].max(FLOOR)
+        };
+        let all: Vec<f64> = runs
+            .iter()
+            .flat_map(|r| r.log.iter().flat_map(|l| [pick(l, false), pick(l, true)]))
+            .collect();
+        let lo = all.iter().cloned().fold(f64::INFINITY, f64::min).max(FLOOR);
+        let hi = all.iter().cloned().fold(0.0, f64::max).max(lo * 10.0);
+        let epochs = runs.iter().map(|r| r.log.len()).max().unwrap_or(2).max(2) as f64;
+        let mut chart = ChartBuilder::on(panel)
+            .caption(["data", "physics"][k], ("sans-serif", 16))
+            .margin(8)
+            .x_label_area_size(30)
+            .y_label_area_size(60)
+            .build_cartesian_2d(1.0..epochs, (lo * 0.8..hi * 1.25).log_scale())
+            .map_err(|x| e(x.to_string()))?;
+        chart
+            .configure_mesh()
+            .x_desc("epoch")
+            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .draw()
+            .map_err(|x| e(x.to_string()))?;
+        for (i, r) in runs.iter().enumerate() {
+            let c = colours[i % colours.len()];
+            for val in [false, true] {
+                let points: Vec<(f64, f64)> = r
+                    .log
+                    .iter()
+                    .map(|l| (l.epoch as f64, pick(l, val)))
+                    .collect();
+                let style = if val {
+                    c.stroke_width(2)
+                } else {
+                    c.mix(0.4).stroke_width(1)
+                };
+                let series = chart
+                    .draw_series(LineSeries::new(points, style))
+                    .map_err(|x| e(x.to_string()))?;
+                if val {
+                    series
+                        .label(format!("seed {} (validation; pale: train)", r.seed))
+                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 15, y)], c));
+                }
+            }
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 11))
+            .draw()
+            .map_err(|x| e(x.to_string()))?;
+    }
+    root.present().map_err(|x| e(x.to_string()))?;
+    Ok(())
+}

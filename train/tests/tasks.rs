@@ -1,0 +1,108 @@
+//! Training the task network on a plan library: samples from plans, a loss
+//! that falls, the same network for the same seed, and an export `infer`
+//! reads.
+
+use std::path::Path;
+use train::config::RuntimeConfig;
+use train::tasks::{TaskTrainSettings, is_validation, load_library, train_task_network};
+
+fn planner() -> infer::Planner {
+    infer::Planner::new(&infer::Config::default(), &Default::default()).unwrap()
+}
+
+fn runtime() -> RuntimeConfig {
+    RuntimeConfig {
+        backend: "flex".into(),
+        dtype: "f64".into(),
+        threads: 1,
+        checkpoint_every: usize::MAX,
+    }
+}
+
+/// Small enough for a debug build.
+fn small() -> TaskTrainSettings {
+    TaskTrainSettings {
+        hidden: vec![16],
+        epochs: 12,
+        time_samples: 9,
+        ..TaskTrainSettings::default()
+    }
+}
+
+fn shipped_library() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/library")
+}
+
+#[test]
+fn the_shipped_library_trains_a_network_infer_reads() {
+    let planner = planner();
+    let (samples, skipped) = load_library(&shipped_library(), &planner).unwrap();
+    assert!(samples.len() >= 40, "{} samples", samples.len());
+    assert_eq!(samples.len() + skipped.plans.len(), 48);
+    for s in &samples {
+        assert!((1..=6).contains(&s.count) && s.queries.len() == s.count);
+        // Past its digs a sample is zero; within them, box coordinates.
+        assert!(s.y[s.count * 10..].iter().all(|&v| v == 0.0));
+        assert!(s.y[1..s.count * 10].iter().all(|v| v.is_finite()));
+    }
+    assert!(samples.iter().any(is_validation) && !samples.iter().all(is_validation));
+
+    let a = train_task_network(&samples, &small(), 3, &runtime(), false).unwrap();
+    let first = a.log.first().unwrap().train;
+    let last = a.log.last().unwrap().train;
+    assert!(last.data < first.data, "data loss {first:?} → {last:?}");
+    // Same seed, same network (the batch order and initial weights derive from it).
+    let b = train_task_network(&samples, &small(), 3, &runtime(), false).unwrap();
+    assert_eq!(a.net.export(3).params, b.net.export(3).params);
+
+    let file = infer::template::TaskNetworkFile::from_json(&a.net.export(3).to_json()).unwrap();
+    let net = file.network().unwrap();
+    let task = infer::TrenchTask::reference('A').unwrap();
+    let design = infer::DesignProfile::new(planner.config(), &task);
+    let count = planner.digs_for(&task).unwrap();
+    let seed = net
+        .predict(planner.config(), &task, &design, count)
+        .unwrap();
+    assert_eq!(seed.digs().len(), count);
+}
+
+#[test]
+fn bad_settings_and_folders_give_errors() {
+    let planner = planner();
+    let (samples, _) = load_library(&shipped_library(), &planner).unwrap();
+    for bad in [
+        TaskTrainSettings {
+            hidden: vec![],
+            ..small()
+        },
+        TaskTrainSettings {
+            epochs: 0,
+            ..small()
+        },
+        TaskTrainSettings {
+            learning_rate: f64::NAN,
+            ..small()
+        },
+        TaskTrainSettings {
+            decay: 1.5,
+            ..small()
+        },
+        TaskTrainSettings {
+            time_samples: 2,
+            ..small()
+        },
+    ] {
+        assert!(train_task_network(&samples, &bad, 1, &runtime(), false).is_err());
+    }
+    // Only validation tasks (every eighth): no training split.
+    let only_val: Vec<_> = samples
+        .iter()
+        .filter(|s| is_validation(s))
+        .cloned()
+        .collect();
+    assert!(train_task_network(&only_val, &small(), 1, &runtime(), false).is_err());
+    let empty = std::env::temp_dir().join(format!("no_library_{}", std::process::id()));
+    std::fs::create_dir_all(&empty).unwrap();
+    assert!(load_library(&empty, &planner).is_err());
+    std::fs::remove_dir_all(&empty).unwrap();
+}
