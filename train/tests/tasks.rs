@@ -4,7 +4,10 @@
 
 use std::path::Path;
 use train::config::RuntimeConfig;
-use train::tasks::{TaskTrainSettings, is_validation, load_library, train_task_network};
+use train::tasks::smoothness::smoothness;
+use train::tasks::{
+    TaskSample, TaskTrainSettings, is_validation, load_library, train_task_network,
+};
 
 fn planner() -> infer::Planner {
     infer::Planner::new(&infer::Config::default(), &Default::default()).unwrap()
@@ -51,6 +54,8 @@ fn the_shipped_library_trains_a_network_infer_reads() {
     let first = a.log.first().unwrap().train;
     let last = a.log.last().unwrap().train;
     assert!(last.data < first.data, "data loss {first:?} → {last:?}");
+    // The kept network is the epoch of least validation total.
+    assert!((1..=a.log.len()).contains(&a.best_epoch));
     // Same seed, same network (the batch order and initial weights derive from it).
     let b = train_task_network(&samples, &small(), 3, &runtime(), false).unwrap();
     assert_eq!(a.net.export(3).params, b.net.export(3).params);
@@ -105,4 +110,36 @@ fn bad_settings_and_folders_give_errors() {
     std::fs::create_dir_all(&empty).unwrap();
     assert!(load_library(&empty, &planner).is_err());
     std::fs::remove_dir_all(&empty).unwrap();
+}
+
+/// Samples whose first dig's variables are `f(task)` plus `noise(i)`.
+fn synthetic(n: usize, f: impl Fn(f64) -> f64, noise: impl Fn(usize) -> f64) -> Vec<TaskSample> {
+    (0..n)
+        .map(|i| {
+            let t = i as f64 / n as f64;
+            let mut y = [0.0; 60];
+            for v in &mut y[..10] {
+                *v = f(t) + noise(i);
+            }
+            TaskSample {
+                index: i + 1,
+                x: [0.4 + 0.4 * t, 0.1, 1.0, 1.0, 1.0],
+                y,
+                count: 1,
+                queries: Vec::new(),
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn smoothness_tells_a_function_of_the_task_from_noise() {
+    let smooth = smoothness(&synthetic(200, |t| t * t, |_| 0.0)).unwrap();
+    assert!(smooth.mean < 0.01, "{smooth:?}");
+    // Values unrelated to the task: neighbours differ as two random plans do (≈ 2).
+    let mut r = infer::rng::SplitMix64::new(5);
+    let draws: Vec<f64> = (0..200).map(|_| r.uniform()).collect();
+    let noisy = smoothness(&synthetic(200, |_| 0.0, |i| draws[i])).unwrap();
+    assert!(noisy.mean > 1.5 && noisy.mean < 2.5, "{noisy:?}");
+    assert!(smoothness(&synthetic(2, |t| t, |_| 0.0)).is_none());
 }

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use train::config::RuntimeConfig;
 use train::tasks::report::{SeedRun, TaskTrainReport, plot};
+use train::tasks::smoothness::smoothness;
 use train::tasks::{TaskTrainSettings, load_library, train_task_network};
 
 #[derive(Parser, Debug)]
@@ -67,11 +68,12 @@ fn run(cli: &Cli) -> Result<(), String> {
             .map_err(|e| e.to_string())?;
         let file = cli.out.join(format!("seed_{seed}.json"));
         write(&file, &outcome.net.export(seed).to_json())?;
-        let last = *outcome.log.last().expect("at least one epoch");
+        let best = outcome.log[outcome.best_epoch - 1];
         eprintln!(
-            "seed {seed}: validation data {:.4}, physics {:.4}, {:.0} s → {}",
-            last.validation.data,
-            last.validation.physics,
+            "seed {seed}: epoch {} kept, validation data {:.4}, physics {:.4}, {:.0} s → {}",
+            best.epoch,
+            best.validation.data,
+            best.validation.physics,
             outcome.seconds,
             file.display()
         );
@@ -79,7 +81,7 @@ fn run(cli: &Cli) -> Result<(), String> {
         runs.push(SeedRun {
             seed,
             seconds: outcome.seconds,
-            last,
+            best,
             log: outcome.log,
         });
     }
@@ -89,6 +91,7 @@ fn run(cli: &Cli) -> Result<(), String> {
         train_tasks: n_train,
         validation_tasks: n_val,
         skipped,
+        smoothness: smoothness(&samples),
         runs,
     };
     write(&cli.out.join("report.md"), &report.markdown())?;

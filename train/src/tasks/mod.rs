@@ -33,7 +33,7 @@ use std::path::Path;
 use std::time::Instant;
 
 /// Variables per dig (`infer::sequence::DIG_VARS`).
-const VARS: usize = infer::sequence::DIG_VARS;
+pub(crate) const VARS: usize = infer::sequence::DIG_VARS;
 /// Digs the network gives (`infer::template::MAX_TEMPLATE_DIGS`).
 const DIGS: usize = infer::template::MAX_TEMPLATE_DIGS;
 
@@ -116,7 +116,7 @@ pub fn load_library(
 
 /// Every eighth task (by library index) validates; the rest train.
 pub fn is_validation(s: &TaskSample) -> bool {
-    s.index % 8 == 0
+    s.index.is_multiple_of(8)
 }
 
 /// How a task network is trained.
@@ -205,7 +205,10 @@ pub struct TaskEpoch {
 /// A trained network and how it got there.
 #[derive(Debug)]
 pub struct TaskOutcome {
+    /// The network of the epoch with the least validation total.
     pub net: TaskNet,
+    /// That epoch (1-based).
+    pub best_epoch: usize,
     pub log: Vec<TaskEpoch>,
     pub seconds: f64,
     pub train_tasks: usize,
@@ -384,6 +387,8 @@ pub fn train_task_network(
     let started = Instant::now();
     let mut log = Vec::with_capacity(settings.epochs);
     let mut order: Vec<usize> = (0..train.len()).collect();
+    // The validation total, epoch and network of the best epoch so far.
+    let mut best: Option<(f64, usize, TaskNet)> = None;
     for epoch in 0..settings.epochs {
         let lr = settings.learning_rate * settings.decay.powi(epoch as i32);
         order.sort_unstable();
@@ -406,11 +411,15 @@ pub fn train_task_network(
             net = optim.step(lr, net, grads);
         }
         let valid = net.valid();
-        let (data, physics, _) = terms(&valid, &validation_batch, &cfg, settings);
+        let (data, physics, total) = terms(&valid, &validation_batch, &cfg, settings);
         let validation = TaskTerms {
             data: read(&data),
             physics: read(&physics),
         };
+        let total = read(&total);
+        if best.as_ref().is_none_or(|(t, _, _)| total < *t) {
+            best = Some((total, epoch + 1, valid));
+        }
         log.push(TaskEpoch {
             epoch: epoch + 1,
             train: sums,
@@ -419,8 +428,10 @@ pub fn train_task_network(
         bar.set_position(epoch as u64 + 1);
     }
     bar.finish_and_clear();
+    let (_, best_epoch, best) = best.expect("at least one epoch");
     Ok(TaskOutcome {
-        net: net.valid(),
+        net: best,
+        best_epoch,
         log,
         seconds: started.elapsed().as_secs_f64(),
         train_tasks: train.len(),
@@ -428,3 +439,4 @@ pub fn train_task_network(
     })
 }
 pub mod report;
+pub mod smoothness;

@@ -1,6 +1,7 @@
 //! What `train_tasks` writes beside the networks: the per-seed table
 //! (Markdown and JSON) and the loss curves of every seed (SVG).
 
+use super::smoothness::Smoothness;
 use super::{Skipped, TaskEpoch, TaskTrainSettings};
 use crate::error::TrainError;
 use serde::{Deserialize, Serialize};
@@ -12,7 +13,8 @@ use std::path::Path;
 pub struct SeedRun {
     pub seed: u64,
     pub seconds: f64,
-    pub last: TaskEpoch,
+    /// The epoch whose network is kept (least validation total).
+    pub best: TaskEpoch,
     pub log: Vec<TaskEpoch>,
 }
 
@@ -24,6 +26,8 @@ pub struct TaskTrainReport {
     pub train_tasks: usize,
     pub validation_tasks: usize,
     pub skipped: Skipped,
+    /// How well the library's plans follow from their tasks.
+    pub smoothness: Option<Smoothness>,
     pub runs: Vec<SeedRun>,
 }
 
@@ -43,16 +47,26 @@ impl TaskTrainReport {
             self.settings.physics,
             self.settings.margin,
         );
-        let _ = writeln!(
-            out,
-            "| seed | train data | train physics | validation data | validation physics | seconds |\n|---|---|---|---|---|---|"
-        );
-        for r in &self.runs {
-            let l = &r.last;
+        if let Some(sm) = &self.smoothness {
+            let ratios: Vec<String> = sm.ratio.iter().map(|r| format!("{r:.2}")).collect();
             let _ = writeln!(
                 out,
-                "| {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.0} |",
+                "Library smoothness (nearest task's plan: squared difference / variance, per variable type, start x, chord, end lift, ζs, ζe, b1–b3, T; 0 = neighbours agree, 2 = unrelated): {} (mean {:.2}).\n",
+                ratios.join(", "),
+                sm.mean
+            );
+        }
+        let _ = writeln!(
+            out,
+            "| seed | kept epoch | train data | train physics | validation data | validation physics | seconds |\n|---|---|---|---|---|---|---|"
+        );
+        for r in &self.runs {
+            let l = &r.best;
+            let _ = writeln!(
+                out,
+                "| {} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.0} |",
                 r.seed,
+                l.epoch,
                 l.train.data,
                 l.train.physics,
                 l.validation.data,
@@ -62,7 +76,7 @@ impl TaskTrainReport {
         }
         let _ = writeln!(
             out,
-            "\nData: mean over digs of the squared error of the 10 normalised box coordinates. Physics: mean over digs of the motion checks' penalty with the margin (teacher-forced queries). Loss curves: `loss.svg`. Quality on tasks: `eval learned`."
+            "\nData: mean over digs of the squared error of the 10 normalised box coordinates. Physics: mean over digs of the motion checks' penalty with the margin (teacher-forced queries). Each seed keeps the network of the epoch with the least validation total (data + weight × physics). Loss curves: `loss.svg`. Quality on tasks: `eval learned`."
         );
         out
     }

@@ -1,0 +1,72 @@
+//! How well a library's plans follow from their tasks: for each sequence
+//! variable, the squared difference between a task's plan and its nearest
+//! task's plan (task features scaled by their spread), over the variance
+//! of that variable across the library. 0: neighbours' plans agree, a
+//! network can interpolate them; 2: they are as unrelated as two random
+//! plans, and a network trained on them can do no better than their mean.
+
+use super::{TaskSample, VARS};
+use infer::template::learned::TASK_INPUTS;
+use serde::{Deserialize, Serialize};
+
+/// Nearest-neighbour error / variance of each of the 10 variables, over
+/// every dig both plans of a pair have.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Smoothness {
+    pub ratio: [f64; VARS],
+    /// Mean of `ratio`.
+    pub mean: f64,
+}
+
+/// See the module docs; `None` with fewer than 3 samples.
+pub fn smoothness(samples: &[TaskSample]) -> Option<Smoothness> {
+    if samples.len() < 3 {
+        return None;
+    }
+    let n = samples.len() as f64;
+    let spread: [f64; TASK_INPUTS] = core::array::from_fn(|j| {
+        let m = samples.iter().map(|s| s.x[j]).sum::<f64>() / n;
+        let v = samples.iter().map(|s| (s.x[j] - m).powi(2)).sum::<f64>() / n;
+        v.sqrt().max(1e-12)
+    });
+    let mut near = [0.0; VARS];
+    let mut pairs = [0.0; VARS];
+    for (i, a) in samples.iter().enumerate() {
+        let nearest = samples
+            .iter()
+            .enumerate()
+            .filter(|&(j, _)| j != i)
+            .map(|(_, b)| {
+                let d: f64 = (0..TASK_INPUTS)
+                    .map(|j| ((a.x[j] - b.x[j]) / spread[j]).powi(2))
+                    .sum();
+                (d, b)
+            })
+            .min_by(|p, q| p.0.total_cmp(&q.0))
+            .map(|(_, b)| b)?;
+        for k in 0..a.count.min(nearest.count) {
+            for v in 0..VARS {
+                near[v] += (a.y[k * VARS + v] - nearest.y[k * VARS + v]).powi(2);
+                pairs[v] += 1.0;
+            }
+        }
+    }
+    let mut ratio = [0.0; VARS];
+    for (v, r) in ratio.iter_mut().enumerate() {
+        let values: Vec<f64> = samples
+            .iter()
+            .flat_map(|s| (0..s.count).map(move |k| s.y[k * VARS + v]))
+            .collect();
+        let m = values.iter().sum::<f64>() / values.len() as f64;
+        let var = values.iter().map(|x| (x - m).powi(2)).sum::<f64>() / values.len() as f64;
+        *r = if var > 0.0 && pairs[v] > 0.0 {
+            near[v] / pairs[v] / var
+        } else {
+            0.0
+        };
+    }
+    Some(Smoothness {
+        ratio,
+        mean: ratio.iter().sum::<f64>() / VARS as f64,
+    })
+}
