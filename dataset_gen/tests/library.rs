@@ -193,3 +193,40 @@ fn a_warm_library_in_shards_equals_one_build() {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
+
+/// A chained warm library: each warm task searched near the nearest of
+/// every task before it. Built in two runs (interrupted after task 3) it
+/// equals one build; sharded, it is refused.
+#[test]
+fn a_chained_library_resumes_to_the_same_plans_and_refuses_shards() {
+    let p = planner();
+    let settings = LibrarySettings {
+        tasks: 4,
+        anchors: Some(1),
+        warm: WarmSettings {
+            chain: true,
+            neighbours: 1,
+            ..small().warm
+        },
+        ..small()
+    };
+    let whole = temp_dir("chain-whole");
+    let report = build(&p, &settings, &whole, None).unwrap();
+    assert_eq!(report.written + report.failed.len(), 4, "{report:?}");
+
+    let resumed = temp_dir("chain-resumed");
+    build(&p, &LibrarySettings { tasks: 3, ..settings }, &resumed, None).unwrap();
+    build(&p, &settings, &resumed, None).unwrap();
+    for i in 0..4 {
+        if entry_path(&whole, i).exists() {
+            assert!(plan_at(&resumed, i) == plan_at(&whole, i), "task {i} differs");
+        }
+    }
+    let shard = Shard { k: 0, n: 2 };
+    let e = build_shard(&p, &settings, &temp_dir("chain-shard"), shard, Wave::All, None)
+        .unwrap_err();
+    assert!(e.to_string().contains("unsharded"), "{e}");
+    for dir in [whole, resumed] {
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

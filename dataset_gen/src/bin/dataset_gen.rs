@@ -218,6 +218,10 @@ enum Command {
         /// library runs anchors on every shard, then warm).
         #[arg(long, default_value = "all")]
         wave: String,
+        /// Search each warm task near the nearest of every task built
+        /// before it, not only the anchors (a continuation; unsharded).
+        #[arg(long)]
+        chain: bool,
         #[command(flatten)]
         sequence: SequenceArgs,
         #[arg(long, default_value = "runs/library")]
@@ -522,6 +526,7 @@ fn main_inner() -> Result<(), Error> {
             radius,
             warm_iterations,
             wave,
+            chain,
             sequence,
             out,
             no_progress,
@@ -544,6 +549,7 @@ fn main_inner() -> Result<(), Error> {
                     neighbours,
                     radius,
                     iterations: warm_iterations,
+                    chain,
                     ..Default::default()
                 },
             };

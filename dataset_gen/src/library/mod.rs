@@ -210,8 +210,13 @@ pub fn build_shard(
     // Two runs of one shard (a requeued array task whose first run still
     // lives) would compute the same plans twice.
     let _lock = FolderLock::acquire(dir, &format!("library-{}-of-{}.lock", shard.k, shard.n))?;
+    if settings.warm.chain && settings.anchors.is_some() && shard != Shard::ALL {
+        return Err(Error::BadArgument(
+            "a chained warm library builds its tasks in order: build it unsharded".into(),
+        ));
+    }
     let mut report = BuildReport::default();
-    let mut anchors = None;
+    let mut anchors: Option<Library> = None;
     let owned = (0..settings.tasks).filter(|&i| shard.owns(i as u64) && wave.builds(settings, i));
     for i in owned {
         let path = entry_path(dir, i);
@@ -228,6 +233,11 @@ pub fn build_shard(
                 )));
             }
             report.kept += 1;
+            if settings.warm.chain
+                && let Some(library) = anchors.as_mut()
+            {
+                library.plans.push((path.clone(), read_plan(&path)?));
+            }
             if let Some(bar) = bar {
                 bar.inc(settings.task_evaluations(i));
             }
@@ -244,7 +254,7 @@ pub fn build_shard(
                 cold()
             } else {
                 if anchors.is_none() {
-                    anchors = Some(load_anchors(planner, settings, dir)?);
+                    anchors = Some(load_anchors(planner, settings, dir, i)?);
                 }
                 let library = anchors.as_ref().expect("loaded above");
                 let seed = derive_seed(settings.seed ^ 0x3A7, i as u64);
@@ -269,6 +279,11 @@ pub fn build_shard(
                 Ok(plan) => {
                     write_whole(&path, &plan.to_json())?;
                     report.written += 1;
+                    if settings.warm.chain
+                        && let Some(library) = anchors.as_mut()
+                    {
+                        library.plans.push((path, plan));
+                    }
                 }
                 Err(Error::BadProblem(why)) => {
                     let text = serde_json::to_string_pretty(&Failure {

@@ -14,6 +14,11 @@ pub struct WarmSettings {
     pub radius: f64,
     pub iterations: usize,
     pub polish: usize,
+    /// Search near the nearest of every task built before (anchors and
+    /// warm tasks), not only the anchors: plans then change from task to
+    /// task as a continuation does, instead of jumping between anchors'
+    /// unrelated optima. Builds tasks in order, so unsharded only.
+    pub chain: bool,
 }
 
 impl Default for WarmSettings {
@@ -23,21 +28,22 @@ impl Default for WarmSettings {
             radius: 0.3,
             iterations: 750,
             polish: 5000,
+            chain: false,
         }
     }
 }
 
-/// The anchors' plans in `dir`, as a library to refit warm tasks from; an
-/// error names the anchors not built yet.
+/// The plans warm task `index` may start from in `dir` (the anchors', or
+/// with `chain` every earlier task's), as a library; an error names the
+/// ones not built yet.
 pub(super) fn load_anchors(
     planner: &Planner,
     settings: &LibrarySettings,
     dir: &Path,
+    index: usize,
 ) -> Result<Library, Error> {
-    let count = settings
-        .anchors
-        .unwrap_or(settings.tasks)
-        .min(settings.tasks);
+    let anchors = settings.anchors.unwrap_or(settings.tasks);
+    let count = if settings.warm.chain { index } else { anchors }.min(settings.tasks);
     let mut plans = Vec::new();
     let mut missing = Vec::new();
     for j in 0..count {
