@@ -13,7 +13,8 @@
 //! best as a seed and refits it by a compass search, every variable of every
 //! dig in turn, whose work is bounded by [`TemplateSettings::max_evaluations`]
 //! (a controller's worst case). A move of dig k replays digs k.. only: the
-//! surfaces the digs before it left are kept.
+//! surfaces the digs before it left are kept. The seed may instead come
+//! from the task network ([`learned`]), refitted the same way.
 //!
 //! Every dig of the result is feasible under the exact model, its limits
 //! held in continuous time ([`crate::limits`]), and within the design
