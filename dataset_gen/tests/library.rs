@@ -215,16 +215,35 @@ fn a_chained_library_resumes_to_the_same_plans_and_refuses_shards() {
     assert_eq!(report.written + report.failed.len(), 4, "{report:?}");
 
     let resumed = temp_dir("chain-resumed");
-    build(&p, &LibrarySettings { tasks: 3, ..settings }, &resumed, None).unwrap();
+    build(
+        &p,
+        &LibrarySettings {
+            tasks: 3,
+            ..settings
+        },
+        &resumed,
+        None,
+    )
+    .unwrap();
     build(&p, &settings, &resumed, None).unwrap();
     for i in 0..4 {
         if entry_path(&whole, i).exists() {
-            assert!(plan_at(&resumed, i) == plan_at(&whole, i), "task {i} differs");
+            assert!(
+                plan_at(&resumed, i) == plan_at(&whole, i),
+                "task {i} differs"
+            );
         }
     }
     let shard = Shard { k: 0, n: 2 };
-    let e = build_shard(&p, &settings, &temp_dir("chain-shard"), shard, Wave::All, None)
-        .unwrap_err();
+    let e = build_shard(
+        &p,
+        &settings,
+        &temp_dir("chain-shard"),
+        shard,
+        Wave::All,
+        None,
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("unsharded"), "{e}");
     for dir in [whole, resumed] {
         std::fs::remove_dir_all(&dir).unwrap();
