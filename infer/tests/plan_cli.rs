@@ -254,3 +254,78 @@ fn templates_plan_verifies_and_falls_back_to_the_networks() {
     assert!(!String::from_utf8_lossy(&o.stdout).contains("templated"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn learned_plan_verifies_or_falls_back_to_the_networks() {
+    let dir = std::env::temp_dir().join(format!("plan-learned-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let artifacts = concat!(env!("CARGO_MANIFEST_DIR"), "/../artifacts");
+    let network = format!("{artifacts}/task_network/seed_1.json");
+    let stem = dir.join("c");
+    let stem = stem.to_str().unwrap();
+    // Whichever planner made it, the plan written replays under the exact model.
+    let o = plan(&[
+        "--task",
+        "C",
+        "--learned",
+        &network,
+        "--networks",
+        artifacts,
+        "-o",
+        stem,
+    ]);
+    let (out, err) = (
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr),
+    );
+    assert!(o.status.success(), "{err}");
+    assert!(
+        out.contains("templated") || err.contains("task network: "),
+        "{out}{err}"
+    );
+    verifies(std::path::Path::new(&format!("{stem}.json")));
+
+    // The least bound: the shipped seed-1 network plans none of A–D
+    // (artifacts/learned/report.md), so `plan` says why and falls back.
+    let settings = dir.join("t.json");
+    std::fs::write(&settings, r#"{"max_evaluations": 100}"#).unwrap();
+    let s = settings.to_str().unwrap();
+    let o = plan(&[
+        "--task",
+        "A",
+        "--learned",
+        &network,
+        "--template-settings",
+        s,
+        "--networks",
+        artifacts,
+        "-o",
+        stem,
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("task network: ") && err.contains("planning with the networks instead"),
+        "{err}"
+    );
+
+    // Settings without a seed source, both sources, a file that is not a network: exit 2.
+    for args in [
+        vec!["--task", "A", "--template-settings", s, "-o", stem],
+        vec![
+            "--task",
+            "A",
+            "--learned",
+            &network,
+            "--templates",
+            &network,
+            "-o",
+            stem,
+        ],
+        vec!["--task", "A", "--learned", s, "-o", stem],
+    ] {
+        let o = plan(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -160,6 +160,9 @@ fn run(args: Args) -> Result<(), String> {
     }
     let planner = Planner::new(&cfg, &settings).map_err(|e| e.to_string())?;
     planner.digs_for(&task).map_err(|e| e.to_string())?;
+    if args.template_settings.is_some() && args.templates.is_none() && args.learned.is_none() {
+        return Err("--template-settings needs --templates or --learned".into());
+    }
     let ts: TemplateSettings = common::json_or_default(args.template_settings.as_deref())?;
     let read =
         |path: &Path| std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()));
