@@ -1,7 +1,7 @@
 //! Training the task network (`model::task_net`) on a plan library: each
 //! task's geometry → its whole dig sequence.
 //!
-//! The loss has two parts:
+//! The loss has two parts, and R(W):
 //! - data: the mean, over the digs a plan has, of the squared error of the
 //!   dig's 10 normalised box coordinates (digs past a plan's count are
 //!   masked out);
