@@ -169,7 +169,10 @@ fn prepare_dir<J: SampleJob>(cfg: &J, dir: &Path) -> Result<(), Error> {
         }
         return Ok(());
     }
-    let tmp = dir.join("manifest.json.tmp");
+    // Array indices start at once on one folder: each writes its own
+    // temporary file (a shared one may be renamed away under another), and
+    // the renames replace the manifest with the same text.
+    let tmp = dir.join(format!("manifest.json.{}.tmp", std::process::id()));
     std::fs::write(&tmp, cfg.to_json()?).map_err(|e| Error::io(&tmp, e))?;
     std::fs::rename(&tmp, &path).map_err(|e| Error::io(&path, e))?;
     Ok(())
