@@ -129,6 +129,18 @@ impl Default for TemplatePlanning {
 }
 
 impl TemplatePlanning {
+    /// The templates a command-line argument names: a file, or `none`.
+    pub fn load_arg(arg: &str) -> Result<Vec<Template>, String> {
+        match arg {
+            "none" => Ok(Vec::new()),
+            file => TemplatePlanning {
+                file: file.into(),
+                ..TemplatePlanning::default()
+            }
+            .load(),
+        }
+    }
+
     /// Reads the template file.
     pub fn load(&self) -> Result<Vec<Template>, String> {
         let f = &self.file;

@@ -324,15 +324,8 @@ fn run(cli: Cli) -> Result<(), EvalError> {
             templates,
         } => {
             let nets = Networks::load(&networks)?;
-            let templates = match templates.as_str() {
-                "none" => Vec::new(),
-                file => TemplatePlanning {
-                    file: file.into(),
-                    ..TemplatePlanning::default()
-                }
-                .load()
-                .map_err(EvalError::BadArgument)?,
-            };
+            let templates =
+                TemplatePlanning::load_arg(&templates).map_err(EvalError::BadArgument)?;
             let settings = benchmarks::BenchSettings {
                 plan_repeats: repeats,
                 ..Default::default()
@@ -392,15 +385,7 @@ fn learned(
             networks.display()
         )));
     }
-    let templates = match templates {
-        "none" => Vec::new(),
-        file => TemplatePlanning {
-            file: file.into(),
-            ..TemplatePlanning::default()
-        }
-        .load()
-        .map_err(EvalError::BadArgument)?,
-    };
+    let templates = TemplatePlanning::load_arg(templates).map_err(EvalError::BadArgument)?;
     let runs = tasks.len() * (2 * files.len() + usize::from(!templates.is_empty()));
     let bar = dataset_gen::jobs::progress_bar(runs as u64, "plans", progress);
     let report = eval::learned::compare(
