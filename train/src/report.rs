@@ -13,6 +13,12 @@ use burn::prelude::*;
 use dataset_gen::dig_problem::{DigBounds, DigObjective, DigProblem};
 use infer::network::NetworkFile;
 use infer::{DigParams, DigType};
+use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
+use plotters::prelude::{
+    BLACK, Cartesian2d, ChartBuilder, ChartContext, Color, DrawingArea, IntoLogRange, LogCoord,
+    SVGBackend, WHITE,
+};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -381,22 +387,8 @@ pub fn plot(
         if let Some(tv) = targets[k] {
             all.push(tv);
         }
-        let lo = all.iter().cloned().fold(f64::INFINITY, f64::min).max(FLOOR);
-        let hi = all.iter().cloned().fold(0.0, f64::max).max(lo * 10.0);
         let epochs = log.len().max(ablation.map_or(0, |a| a.len())).max(2) as f64;
-        let mut chart = ChartBuilder::on(panel)
-            .caption(TermValues::NAMES[k], ("sans-serif", 16))
-            .margin(8)
-            .x_label_area_size(30)
-            .y_label_area_size(60)
-            .build_cartesian_2d(1.0..epochs, (lo * 0.8..hi * 1.25).log_scale())
-            .map_err(|x| e(x.to_string()))?;
-        chart
-            .configure_mesh()
-            .x_desc("epoch")
-            .y_label_formatter(&|v| format!("{v:.0e}"))
-            .draw()
-            .map_err(|x| e(x.to_string()))?;
+        let mut chart = loss_panel(panel, TermValues::NAMES[k], &all, FLOOR, epochs).map_err(e)?;
         let series = |l: &[EpochLog], val: bool| -> Vec<(f64, f64)> {
             l.iter().map(|x| (x.epoch as f64, pick(x, val))).collect()
         };
@@ -427,14 +419,52 @@ pub fn plot(
                 .label("target")
                 .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 15, y)], RED));
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 11))
-            .draw()
-            .map_err(|x| e(x.to_string()))?;
+        draw_legend(&mut chart).map_err(e)?;
     }
     root.present().map_err(|x| e(x.to_string()))?;
     Ok(())
+}
+
+/// One log-scale loss panel: epochs 1.. along x, a y range that holds
+/// `values` (none below `floor`), caption, axes and mesh drawn.
+pub(crate) fn loss_panel<'a, 'b>(
+    panel: &'a DrawingArea<SVGBackend<'b>, Shift>,
+    caption: &str,
+    values: &[f64],
+    floor: f64,
+    epochs: f64,
+) -> Result<ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, LogCoord<f64>>>, String> {
+    let lo = values
+        .iter()
+        .cloned()
+        .fold(f64::INFINITY, f64::min)
+        .max(floor);
+    let hi = values.iter().cloned().fold(0.0, f64::max).max(lo * 10.0);
+    let mut chart = ChartBuilder::on(panel)
+        .caption(caption, ("sans-serif", 16))
+        .margin(8)
+        .x_label_area_size(30)
+        .y_label_area_size(60)
+        .build_cartesian_2d(1.0..epochs, (lo * 0.8..hi * 1.25).log_scale())
+        .map_err(|x| x.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc("epoch")
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .draw()
+        .map_err(|x| x.to_string())?;
+    Ok(chart)
+}
+
+/// The legend of a loss panel's series.
+pub(crate) fn draw_legend<'a, 'b: 'a>(
+    chart: &mut ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, LogCoord<f64>>>,
+) -> Result<(), String> {
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 11))
+        .draw()
+        .map_err(|x| x.to_string())
 }

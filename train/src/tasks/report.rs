@@ -4,6 +4,7 @@
 use super::smoothness::Smoothness;
 use super::{Skipped, TaskEpoch, TaskTrainSettings};
 use crate::error::TrainError;
+use crate::report::{draw_legend, loss_panel};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -110,22 +111,9 @@ pub fn plot(path: &Path, runs: &[SeedRun]) -> Result<(), TrainError> {
             .iter()
             .flat_map(|r| r.log.iter().flat_map(|l| [pick(l, false), pick(l, true)]))
             .collect();
-        let lo = all.iter().cloned().fold(f64::INFINITY, f64::min).max(FLOOR);
-        let hi = all.iter().cloned().fold(0.0, f64::max).max(lo * 10.0);
         let epochs = runs.iter().map(|r| r.log.len()).max().unwrap_or(2).max(2) as f64;
-        let mut chart = ChartBuilder::on(panel)
-            .caption(["data", "physics"][k], ("sans-serif", 16))
-            .margin(8)
-            .x_label_area_size(30)
-            .y_label_area_size(60)
-            .build_cartesian_2d(1.0..epochs, (lo * 0.8..hi * 1.25).log_scale())
-            .map_err(|x| e(x.to_string()))?;
-        chart
-            .configure_mesh()
-            .x_desc("epoch")
-            .y_label_formatter(&|v| format!("{v:.0e}"))
-            .draw()
-            .map_err(|x| e(x.to_string()))?;
+        let mut chart =
+            loss_panel(panel, ["data", "physics"][k], &all, FLOOR, epochs).map_err(e)?;
         for (i, r) in runs.iter().enumerate() {
             let c = colours[i % colours.len()];
             for val in [false, true] {
@@ -149,13 +137,7 @@ pub fn plot(path: &Path, runs: &[SeedRun]) -> Result<(), TrainError> {
                 }
             }
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 11))
-            .draw()
-            .map_err(|x| e(x.to_string()))?;
+        draw_legend(&mut chart).map_err(e)?;
     }
     root.present().map_err(|x| e(x.to_string()))?;
     Ok(())
