@@ -1,10 +1,12 @@
-//! The learned task planner against the template planner: eval's tasks
-//! and fresh random tasks from the library's ranges, each planned from
-//! every training seed's task network (with the template planner's full
-//! refit bound, and with the least bound, which shows what the network
-//! gives nearly alone) and from the templates.
+//! The learned task planner against the template planner and the dig
+//! networks' greedy planner: eval's tasks and fresh random tasks from the
+//! library's ranges, each planned from every training seed's task network
+//! (with the template planner's full refit bound, and with the least
+//! bound, which shows what the network gives nearly alone), from the
+//! templates and dig by dig.
 
 use crate::error::{EvalError, write_file};
+use crate::networks::Networks;
 use crate::tasks::NamedTask;
 use crate::whole::PlanSummary;
 use infer::Planner;
@@ -22,11 +24,20 @@ pub struct LearnedRow {
     pub result: Result<PlanSummary, String>,
 }
 
+/// The planners the learned one is compared with (either may be left out).
+#[derive(Debug, Clone, Default)]
+pub struct Compared {
+    pub templates: Vec<Template>,
+    pub dig_networks: Option<Networks>,
+}
+
 /// One planner over every task.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct PlannerTotals {
     pub planner: String,
     pub tasks: usize,
+    /// Plans returned whole (the greedy planner may stop with material
+    /// left that no dig can take).
     pub finished: usize,
     /// Tasks whose under- and over-dug areas are each ≤ 3 % of the design.
     pub within_3_percent: usize,
@@ -49,12 +60,12 @@ pub struct LearnedReport {
 }
 
 /// The planners compared, by name: each network at the full bound and at
-/// the least, then the templates (if any).
+/// the least, then the templates and the greedy planner (if given).
 pub fn compare(
     planner: &Planner,
     tasks: &[NamedTask],
     networks: &[TaskNetworkFile],
-    templates: &[Template],
+    compared: &Compared,
     settings: &TemplateSettings,
     bar: &indicatif::ProgressBar,
     command: &str,
@@ -78,11 +89,19 @@ pub fn compare(
             }
         }
     }
-    if !templates.is_empty() {
+    if !compared.templates.is_empty() {
         let name = format!("templates (≤ {} evaluations)", settings.max_evaluations);
         for t in tasks {
-            let plan = planner.plan_from_templates(&t.task, templates, settings);
+            let plan = planner.plan_from_templates(&t.task, &compared.templates, settings);
             rows.push(row(t, &name, plan));
+            bar.inc(1);
+        }
+    }
+    if let Some(nets) = &compared.dig_networks {
+        let mut pair = nets.pair()?;
+        for t in tasks {
+            let plan = planner.plan(&t.task, &mut pair);
+            rows.push(row(t, "dig networks (greedy, dig by dig)", plan));
             bar.inc(1);
         }
     }
@@ -120,7 +139,11 @@ fn row(
 
 fn totals<'a>(name: &str, rows: impl Iterator<Item = &'a LearnedRow>) -> PlannerTotals {
     let rows: Vec<&LearnedRow> = rows.collect();
-    let done: Vec<&PlanSummary> = rows.iter().filter_map(|r| r.result.as_ref().ok()).collect();
+    let done: Vec<&PlanSummary> = rows
+        .iter()
+        .filter_map(|r| r.result.as_ref().ok())
+        .filter(|s| s.complete)
+        .collect();
     let mut ms: Vec<f64> = done.iter().map(|s| s.planning_seconds * 1e3).collect();
     ms.sort_by(f64::total_cmp);
     let max = |f: fn(&PlanSummary) -> f64| done.iter().map(|s| f(s)).fold(f64::NAN, f64::max);

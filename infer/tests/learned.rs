@@ -4,7 +4,7 @@
 #![allow(clippy::result_large_err)] // PlanError carries the violated constraint by value
 
 use infer::sequence::DIG_VARS;
-use infer::template::learned::{TASK_OUTPUTS, box_coordinates};
+use infer::template::learned::{TASK_INPUTS, TASK_OUTPUTS, box_coordinates};
 use infer::template::{TaskNetwork, TaskNetworkFile, TemplateFile, TemplateSettings, TemplateWork};
 use infer::{Config, DesignProfile, Planner, PlannerSettings, TrenchTask};
 use std::path::Path;
@@ -17,14 +17,15 @@ fn planner() -> Planner {
     Planner::new(&Config::default(), &PlannerSettings::default()).unwrap()
 }
 
-/// Widths [5, 1, 60] with zero weights: the output is μ_y, whatever the task.
+/// Widths [6, 1, 60] with zero weights: the output is μ_y, whatever the
+/// task and dig count.
 fn constant_network(u: &[f64; TASK_OUTPUTS]) -> (Vec<usize>, Vec<f64>) {
-    let mut p = vec![0.0; 5];
-    p.extend([1.0; 5]);
+    let mut p = vec![0.0; TASK_INPUTS];
+    p.extend([1.0; TASK_INPUTS]);
     p.extend(u);
     p.extend([1.0; TASK_OUTPUTS]);
-    p.extend(vec![0.0; 5 + 1 + TASK_OUTPUTS + TASK_OUTPUTS]);
-    (vec![5, 1, TASK_OUTPUTS], p)
+    p.extend(vec![0.0; TASK_INPUTS + 1 + TASK_OUTPUTS + TASK_OUTPUTS]);
+    (vec![TASK_INPUTS, 1, TASK_OUTPUTS], p)
 }
 
 /// A network that gives task A the shipped template the template planner
@@ -112,7 +113,7 @@ fn a_bad_network_gives_an_error() {
     let planner = planner();
     let (widths, params, _) = network_for_a(&planner);
     // Wrong widths, wrong counts, NaN and σ ≤ 0 are refused when read.
-    assert!(TaskNetwork::new(&[5, 1, 59], &params).is_err());
+    assert!(TaskNetwork::new(&[TASK_INPUTS, 1, 59], &params).is_err());
     assert!(TaskNetwork::new(&widths, &params[1..]).is_err());
     let mut nan = params.clone();
     nan[20] = f64::NAN;
@@ -139,5 +140,26 @@ fn a_bad_network_gives_an_error() {
     assert!(TaskNetworkFile::from_json(&file.to_json()).is_err());
     let good = TaskNetworkFile { params, ..file };
     assert!(TaskNetworkFile::from_json(&good.to_json()).is_ok());
-    assert!(TaskNetworkFile::from_json(&good.to_json().replace("task-network/1", "x")).is_err());
+    assert!(TaskNetworkFile::from_json(&good.to_json().replace("task-network/2", "x")).is_err());
+}
+
+/// A task the planner would dig in more digs than the network gives (7 >
+/// 6) is seeded with 6, never refused for its count.
+#[test]
+fn a_task_of_more_digs_than_the_network_gives_is_seeded_with_fewer() {
+    let planner = planner();
+    let (widths, params, _) = network_for_a(&planner);
+    let net = TaskNetwork::new(&widths, &params).unwrap();
+    let task = TrenchTask {
+        length: 0.85,
+        depth: 0.2,
+        slope_far: 75f64.to_radians(),
+        slope_near: 75f64.to_radians(),
+        far_edge: 1.1,
+    };
+    assert_eq!(planner.digs_for(&task).unwrap(), 7);
+    match planner.plan_learned(&task, &net, &TemplateSettings::default()) {
+        Ok(plan) => assert!(plan.digs.len() <= 6),
+        Err(e) => assert!(!e.to_string().contains("digs (1 to"), "{e}"),
+    }
 }

@@ -85,8 +85,12 @@ fn bad_tasks_and_missing_networks_are_clear_errors() {
         ),
         (&["--task", "Q"], "unknown task"),
         (
-            &["--task", "A", "--networks", "/nonexistent"],
+            &["--task", "A", "--greedy", "--networks", "/nonexistent"],
             "trained networks are needed",
+        ),
+        (
+            &["--task", "A", "--learned", "/nonexistent"],
+            "the task network is needed",
         ),
     ];
     for (args, message) in cases {
@@ -121,6 +125,7 @@ fn verify_replays_a_plan_file() {
     let o = plan(&[
         "--task",
         "C",
+        "--greedy",
         "--networks",
         networks,
         "-o",
@@ -159,7 +164,7 @@ fn a_plan_with_a_move_verifies() {
     std::fs::create_dir_all(&dir).unwrap();
     let networks = concat!(env!("CARGO_MANIFEST_DIR"), "/../artifacts");
     let stem = dir.join("b");
-    let args = ["--task", "B", "--networks", networks, "-o"];
+    let args = ["--task", "B", "--greedy", "--networks", networks, "-o"];
     let o = plan(
         &[
             &args[..],
@@ -255,6 +260,21 @@ fn templates_plan_verifies_and_falls_back_to_the_networks() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// `plan` succeeded from the task network (its digs are templated) or
+/// said why not and fell back; either way STEM.json replays.
+fn learned_or_fallen_back(o: &std::process::Output, stem: &str) {
+    let (out, err) = (
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr),
+    );
+    assert!(o.status.success(), "{err}");
+    assert!(
+        out.contains("templated") || err.contains("task network: "),
+        "{out}{err}"
+    );
+    verifies(std::path::Path::new(&format!("{stem}.json")));
+}
+
 #[test]
 fn learned_plan_verifies_or_falls_back_to_the_networks() {
     let dir = std::env::temp_dir().join(format!("plan-learned-{}", std::process::id()));
@@ -274,16 +294,16 @@ fn learned_plan_verifies_or_falls_back_to_the_networks() {
         "-o",
         stem,
     ]);
-    let (out, err) = (
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr),
-    );
-    assert!(o.status.success(), "{err}");
-    assert!(
-        out.contains("templated") || err.contains("task network: "),
-        "{out}{err}"
-    );
-    verifies(std::path::Path::new(&format!("{stem}.json")));
+    learned_or_fallen_back(&o, stem);
+
+    // Named no planner, `plan` plans from the shipped task network (run
+    // from the repository's root, as the README does).
+    let o = Command::new(env!("CARGO_BIN_EXE_plan"))
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
+        .args(["--task", "C", "-o", stem])
+        .output()
+        .unwrap();
+    learned_or_fallen_back(&o, stem);
 
     // The least bound: the shipped seed-1 network plans none of A–D
     // (artifacts/learned/report.md), so `plan` says why and falls back.
@@ -309,9 +329,18 @@ fn learned_plan_verifies_or_falls_back_to_the_networks() {
         "{err}"
     );
 
-    // Settings without a seed source, both sources, a file that is not a network: exit 2.
+    // Template settings for the greedy planner, both seed sources, a file
+    // that is not a network: exit 2.
     for args in [
-        vec!["--task", "A", "--template-settings", s, "-o", stem],
+        vec![
+            "--task",
+            "A",
+            "--greedy",
+            "--template-settings",
+            s,
+            "-o",
+            stem,
+        ],
         vec![
             "--task",
             "A",

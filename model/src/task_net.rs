@@ -1,9 +1,9 @@
-//! The task network: a trench task's geometry X = [L, D, β1, β2, far edge]
-//! → its whole dig sequence, each dig's variables as coordinates of the
+//! The task network: a trench task's geometry and dig count X = [L, D, β1,
+//! β2, far edge, n] → its whole dig sequence, each dig's variables as coordinates of the
 //! task's search box (`infer::template::learned`), for 6 digs. Dense tanh
 //! layers with the input and output normalisation stored in the module,
 //! as [`crate::network::DigNet`]; [`TaskNet::export`] writes the
-//! `task-network/1` file that `infer::template::TaskNetwork` evaluates.
+//! `task-network/2` file that `infer::template::TaskNetwork` evaluates.
 
 use crate::dense::{self, buffer_like, row, to_f64};
 use burn::module::{Module, Param};
@@ -51,7 +51,7 @@ impl TaskNet {
         }
     }
 
-    /// Raw X [B, 5] → normalised box coordinates [B, 60].
+    /// Raw X [B, 6] → normalised box coordinates [B, 60].
     pub fn forward(&self, x_raw: Tensor<2>) -> Tensor<2> {
         let h = (x_raw - row(self.x_mean.clone())) / row(self.x_std.clone());
         dense::forward(&self.layers, &self.activation, h)

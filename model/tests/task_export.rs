@@ -14,8 +14,8 @@ fn export_matches_burns_forward_pass() {
         .configure(FloatDType::F64)
         .expect("the CPU backend supports f64");
     let norm = TaskNormalisation {
-        x_mean: vec![0.6, 0.13, 0.9, 0.9, 1.04],
-        x_std: vec![0.13, 0.04, 0.22, 0.22, 0.035],
+        x_mean: vec![0.6, 0.13, 0.9, 0.9, 1.04, 3.2],
+        x_std: vec![0.13, 0.04, 0.22, 0.22, 0.035, 1.1],
         y_mean: (0..TASK_OUTPUTS).map(|j| 0.3 + 0.005 * j as f64).collect(),
         y_std: (0..TASK_OUTPUTS).map(|j| 0.05 + 0.002 * j as f64).collect(),
     };
@@ -24,9 +24,9 @@ fn export_matches_burns_forward_pass() {
     assert_eq!(file.widths, vec![TASK_INPUTS, 16, 12, TASK_OUTPUTS]);
     file.network().unwrap();
     let tasks = [
-        [0.45, 0.08, 0.7, 1.2, 1.0],
-        [0.8, 0.19, 0.55, 0.9, 1.09],
-        [0.6, 0.13, 1.0, 1.0, 1.03],
+        [0.45, 0.08, 0.7, 1.2, 1.0, 2.0],
+        [0.8, 0.19, 0.55, 0.9, 1.09, 6.0],
+        [0.6, 0.13, 1.0, 1.0, 1.03, 3.0],
     ];
     let x = Tensor::<2>::from_data(
         TensorData::new(tasks.concat(), [tasks.len(), TASK_INPUTS]),

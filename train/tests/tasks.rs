@@ -123,7 +123,7 @@ fn synthetic(n: usize, f: impl Fn(f64) -> f64, noise: impl Fn(usize) -> f64) -> 
             }
             TaskSample {
                 index: i + 1,
-                x: [0.4 + 0.4 * t, 0.1, 1.0, 1.0, 1.0],
+                x: [0.4 + 0.4 * t, 0.1, 1.0, 1.0, 1.0, 1.0],
                 y,
                 count: 1,
                 queries: Vec::new(),

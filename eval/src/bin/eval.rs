@@ -150,8 +150,9 @@ enum Command {
         eval: EvalArgs,
     },
     /// The learned task planner (one network per training seed) against
-    /// the templates, on eval's tasks and fresh random tasks of the
-    /// library's ranges, into OUT/report.{md,json}.
+    /// the templates and the dig networks' greedy planner, on eval's tasks
+    /// and fresh random tasks of the library's ranges, into
+    /// OUT/report.{md,json}.
     Learned {
         /// Folder of the task networks (seed_<s>.json, `train_tasks`).
         #[arg(long, default_value = "artifacts/task_network")]
@@ -159,6 +160,10 @@ enum Command {
         /// Templates to compare with (`none`: not run).
         #[arg(long, default_value = "artifacts/templates.json")]
         templates: String,
+        /// Folder of the dig networks whose greedy planner is compared
+        /// (`none`: not run).
+        #[arg(long, default_value = "artifacts")]
+        dig_networks: String,
         /// Fresh random tasks from the library's wide ranges.
         #[arg(long, default_value_t = 40)]
         fresh: usize,
@@ -313,10 +318,22 @@ fn run(cli: Cli) -> Result<(), EvalError> {
         Command::Learned {
             networks,
             templates,
+            dig_networks,
             fresh,
             fresh_seed,
             out,
-        } => learned(&networks, &templates, fresh, fresh_seed, &out, progress)?,
+        } => {
+            let dig_networks = match dig_networks.as_str() {
+                "none" => None,
+                dir => Some(Networks::load(std::path::Path::new(dir))?),
+            };
+            let compared = eval::learned::Compared {
+                templates: TemplatePlanning::load_arg(&templates)
+                    .map_err(EvalError::BadArgument)?,
+                dig_networks,
+            };
+            learned(&networks, &compared, fresh, fresh_seed, &out, progress)?
+        }
         Command::BenchSummary {
             networks,
             out,
@@ -341,7 +358,7 @@ fn run(cli: Cli) -> Result<(), EvalError> {
 /// `eval learned`: see [`Command::Learned`].
 fn learned(
     networks: &std::path::Path,
-    templates: &str,
+    compared: &eval::learned::Compared,
     fresh: usize,
     fresh_seed: u64,
     out: &std::path::Path,
@@ -385,14 +402,16 @@ fn learned(
             networks.display()
         )));
     }
-    let templates = TemplatePlanning::load_arg(templates).map_err(EvalError::BadArgument)?;
-    let runs = tasks.len() * (2 * files.len() + usize::from(!templates.is_empty()));
+    let runs = tasks.len()
+        * (2 * files.len()
+            + usize::from(!compared.templates.is_empty())
+            + usize::from(compared.dig_networks.is_some()));
     let bar = dataset_gen::jobs::progress_bar(runs as u64, "plans", progress);
     let report = eval::learned::compare(
         &planner,
         &tasks,
         &files,
-        &templates,
+        compared,
         &Default::default(),
         &bar,
         &command_line(),

@@ -1,6 +1,8 @@
 //! `plan`: plan a trenching task into a feasible sequence of digs and write
 //! the plan as JSON and an SVG picture; or replay a plan file under the
-//! exact model (`--verify`).
+//! exact model (`--verify`). By default the task network gives the whole
+//! sequence (`--learned`); the templates and the greedy dig-by-dig
+//! planner are options.
 
 mod common;
 
@@ -24,11 +26,17 @@ use std::process::ExitCode;
 struct Args {
     #[command(flatten)]
     task: TaskArgs,
-    /// Directory holding network_downward.json and network_backward.json.
+    /// Directory holding network_downward.json and network_backward.json
+    /// (the greedy planner's, and the fallback's).
     #[arg(long, default_value = "artifacts")]
     networks: PathBuf,
-    /// Ignore the networks and predict each dig by a local refinement (slow; for use before training).
-    #[arg(long)]
+    /// Plan dig by dig with the dig networks (greedy), not from the task
+    /// network.
+    #[arg(long, conflicts_with_all = ["templates", "learned"])]
+    greedy: bool,
+    /// Plan greedily, each dig predicted by a local refinement instead of
+    /// the dig networks (slow; for use before training).
+    #[arg(long, conflicts_with_all = ["templates", "learned"])]
     refine: bool,
     /// Plan from this template library (`dataset_gen templates`; e.g.
     /// artifacts/templates.json): the nearest offline-optimised plans
@@ -36,7 +44,7 @@ struct Args {
     /// says why and plans with the networks instead.
     #[arg(long)]
     templates: Option<PathBuf>,
-    /// Plan from this task network (`train_tasks`; e.g.
+    /// Plan from this task network (`train_tasks`; default
     /// artifacts/task_network/seed_1.json): its dig sequence for the task,
     /// checked, refitted within the template planner's bound and repaired.
     /// If that fails, it says why and plans with the dig networks instead.
@@ -61,7 +69,7 @@ struct Args {
     /// machine must stand still between digs unless a dig records a move,
     /// which must replay to the position the dig stands at. Exit code
     /// 0 if it does, 1 if it does not, 2 for unreadable input.
-    #[arg(long, conflicts_with_all = ["task", "task_file", "length", "refine", "templates", "learned", "move_controller", "move_slip"])]
+    #[arg(long, conflicts_with_all = ["task", "task_file", "length", "greedy", "refine", "templates", "learned", "move_controller", "move_slip"])]
     verify: Option<PathBuf>,
     /// The tracker of the machine's moves back along the trench (default:
     /// the settings', fuzzy).
@@ -71,6 +79,9 @@ struct Args {
     #[arg(long)]
     move_slip: Option<f64>,
 }
+
+/// The task network `plan` plans from unless told otherwise.
+const DEFAULT_TASK_NETWORK: &str = "artifacts/task_network/seed_1.json";
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
 enum Tracker {
@@ -160,13 +171,18 @@ fn run(args: Args) -> Result<(), String> {
     }
     let planner = Planner::new(&cfg, &settings).map_err(|e| e.to_string())?;
     planner.digs_for(&task).map_err(|e| e.to_string())?;
-    if args.template_settings.is_some() && args.templates.is_none() && args.learned.is_none() {
-        return Err("--template-settings needs --templates or --learned".into());
+    let greedy = args.greedy || args.refine;
+    if args.template_settings.is_some() && greedy {
+        return Err("--template-settings is for the learned and template planners, not --greedy or --refine".into());
     }
     let ts: TemplateSettings = common::json_or_default(args.template_settings.as_deref())?;
     let read =
         |path: &Path| std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()));
-    let planned = match (&args.templates, &args.learned) {
+    let learned = args
+        .learned
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(DEFAULT_TASK_NETWORK));
+    let planned = match (&args.templates, greedy) {
         (Some(path), _) => {
             let file = TemplateFile::from_json(&read(path)?)
                 .map_err(|e| format!("{}: {e}", path.display()))?;
@@ -175,13 +191,17 @@ fn run(args: Args) -> Result<(), String> {
                 planner.plan_from_templates(&task, &file.templates, &ts),
             ))
         }
-        (None, Some(path)) => {
-            let file = TaskNetworkFile::from_json(&read(path)?)
+        (None, false) => {
+            let path = &learned;
+            let text = read(path).map_err(|e| {
+                format!("{e} (the task network is needed; give --learned FILE, or --greedy to plan with the dig networks)")
+            })?;
+            let file = TaskNetworkFile::from_json(&text)
                 .map_err(|e| format!("{}: {e}", path.display()))?;
             let net = file.network().map_err(|e| e.to_string())?;
             Some(("task network", planner.plan_learned(&task, &net, &ts)))
         }
-        (None, None) => None,
+        (None, true) => None,
     };
     let from_templates = match planned {
         None => None,

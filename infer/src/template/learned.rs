@@ -8,6 +8,11 @@
 //! interpolates between its tasks. The output is each dig's variables in
 //! the task's own search box ([`dig_box`]), u = (v − lo) / (hi − lo), so
 //! start x and the rest scale with the design as the box does.
+//!
+//! The dig count is an input: one library plan in six has a dig fewer or
+//! more than [`crate::Planner::digs_for`] expects, and a 2-dig plan's first
+//! dig is not a 3-dig plan's. Given the count, the network answers one
+//! plan rather than the mean of both.
 
 use super::{MAX_TEMPLATE_DIGS, Template};
 use crate::config::Config;
@@ -16,8 +21,8 @@ use crate::network::Network;
 use crate::sequence::{DIG_VARS, DigVars, dig_box, features};
 use crate::trench::{DesignProfile, TrenchTask};
 
-/// Inputs: L, D, β1, β2 and far edge ([`features`]).
-pub const TASK_INPUTS: usize = 5;
+/// Inputs: L, D, β1, β2 and far edge ([`features`]), and the dig count.
+pub const TASK_INPUTS: usize = 6;
 /// Outputs: [`DIG_VARS`] box coordinates for each of [`MAX_TEMPLATE_DIGS`] digs.
 pub const TASK_OUTPUTS: usize = MAX_TEMPLATE_DIGS * DIG_VARS;
 
@@ -28,7 +33,7 @@ pub struct TaskNetwork<'a> {
 }
 
 impl<'a> TaskNetwork<'a> {
-    /// Checks widths (5 inputs, 60 outputs) and parameters as
+    /// Checks widths (6 inputs, 60 outputs) and parameters as
     /// [`Network::sized`] does.
     pub fn new(widths: &[usize], params: &'a [f64]) -> Result<Self, Error> {
         Ok(TaskNetwork {
@@ -36,9 +41,9 @@ impl<'a> TaskNetwork<'a> {
         })
     }
 
-    /// The first `count` digs the network gives `task` (whose design is
-    /// `design`), as a template of that task: its variables taken from box
-    /// coordinates back into the task's box. An error if `count` is 0 or
+    /// The `count` digs the network gives `task` (whose design is
+    /// `design`) planned in that many digs, as a template of that task: its
+    /// variables taken from box coordinates back into the task's box. An error if `count` is 0 or
     /// more than [`MAX_TEMPLATE_DIGS`], or the forward pass is not finite.
     pub fn predict(
         &self,
@@ -52,7 +57,7 @@ impl<'a> TaskNetwork<'a> {
                 field: "task network digs (1 to MAX_TEMPLATE_DIGS)",
             });
         }
-        let u = self.net.forward(&features(task))?;
+        let u = self.net.forward(&task_inputs(task, count))?;
         let (lo, hi) = dig_box(cfg, design);
         let mut digs = [[0.0; DIG_VARS]; MAX_TEMPLATE_DIGS];
         for (k, dig) in digs.iter_mut().enumerate() {
@@ -60,6 +65,12 @@ impl<'a> TaskNetwork<'a> {
         }
         Template::new(*task, &digs[..count])
     }
+}
+
+/// The network's input for `task` planned in `count` digs.
+pub fn task_inputs(task: &TrenchTask, count: usize) -> [f64; TASK_INPUTS] {
+    let f = features(task);
+    [f[0], f[1], f[2], f[3], f[4], count as f64]
 }
 
 /// A dig's variables as box coordinates of `design`'s box (what the
@@ -86,7 +97,7 @@ mod file {
     pub struct TaskNetworkFile {
         /// Always [`TaskNetworkFile::FORMAT`].
         pub format: String,
-        /// Layer widths, inputs first: e.g. [5, 64, 64, 60].
+        /// Layer widths, inputs first: e.g. [6, 64, 64, 60].
         pub widths: Vec<usize>,
         /// μ_x σ_x μ_y σ_y, then per layer W (in × out) and b, as
         /// [`crate::network`] lays them out.
@@ -96,7 +107,7 @@ mod file {
     }
 
     impl TaskNetworkFile {
-        pub const FORMAT: &'static str = "task-network/1";
+        pub const FORMAT: &'static str = "task-network/2";
 
         /// Parses and checks a JSON export.
         pub fn from_json(text: &str) -> Result<Self, String> {

@@ -159,7 +159,16 @@ impl TemplateWork {
                 }
             }
             Source::Network(net) => {
-                near[0] = Some((0, net.predict(cfg, &self.task, &self.design, expected)?));
+                // One library plan in six has a dig fewer or more than
+                // `expected`: the network's plan in each count is a seed.
+                let counts = [Some(expected), expected.checked_sub(1), Some(expected + 1)];
+                let counts = counts
+                    .into_iter()
+                    .flatten()
+                    .filter(|c| (1..=MAX_TEMPLATE_DIGS).contains(c));
+                for (slot, c) in near.iter_mut().zip(counts) {
+                    *slot = Some((0, net.predict(cfg, &self.task, &self.design, c)?));
+                }
             }
         }
         let seeds = near.iter().flatten().count();

@@ -24,7 +24,7 @@ use burn::prelude::*;
 use burn::tensor::TensorData;
 use dataset_gen::jobs::progress_bar;
 use infer::template::Template;
-use infer::template::learned::{TASK_INPUTS, TASK_OUTPUTS, box_coordinates};
+use infer::template::learned::{TASK_INPUTS, TASK_OUTPUTS, box_coordinates, task_inputs};
 use infer::{DigType, Planner};
 use model::physics::{dig_figures, motion_penalty};
 use model::task_net::{TaskNet, TaskNormalisation};
@@ -42,7 +42,7 @@ const DIGS: usize = infer::template::MAX_TEMPLATE_DIGS;
 pub struct TaskSample {
     /// Its task number in the library (which split it falls in).
     pub index: usize,
-    /// L, D, β1, β2, far edge.
+    /// L, D, β1, β2, far edge and the dig count (`task_inputs`).
     pub x: [f64; TASK_INPUTS],
     /// Box coordinates of each dig; zeros past `count`.
     pub y: [f64; TASK_OUTPUTS],
@@ -95,7 +95,7 @@ pub fn load_library(
         }
         samples.push(TaskSample {
             index,
-            x: infer::sequence::features(&plan.task),
+            x: task_inputs(&plan.task, template.digs().len()),
             y,
             count: template.digs().len(),
             queries: plan

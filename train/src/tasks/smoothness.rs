@@ -4,10 +4,14 @@
 //! of that variable across the library. 0: neighbours' plans agree, a
 //! network can interpolate them; 2: they are as unrelated as two random
 //! plans, and a network trained on them can do no better than their mean.
+//! Tasks are near by their geometry alone (not the dig count), so the
+//! figure shows the scatter the count leaves as well.
 
 use super::{TaskSample, VARS};
-use infer::template::learned::TASK_INPUTS;
 use serde::{Deserialize, Serialize};
+
+/// The task inputs that are its geometry (L, D, β1, β2, far edge).
+const GEOMETRY: usize = 5;
 
 /// Nearest-neighbour error / variance of each of the 10 variables, over
 /// every dig both plans of a pair have.
@@ -24,7 +28,7 @@ pub fn smoothness(samples: &[TaskSample]) -> Option<Smoothness> {
         return None;
     }
     let n = samples.len() as f64;
-    let spread: [f64; TASK_INPUTS] = core::array::from_fn(|j| {
+    let spread: [f64; GEOMETRY] = core::array::from_fn(|j| {
         let m = samples.iter().map(|s| s.x[j]).sum::<f64>() / n;
         let v = samples.iter().map(|s| (s.x[j] - m).powi(2)).sum::<f64>() / n;
         v.sqrt().max(1e-12)
@@ -37,7 +41,7 @@ pub fn smoothness(samples: &[TaskSample]) -> Option<Smoothness> {
             .enumerate()
             .filter(|&(j, _)| j != i)
             .map(|(_, b)| {
-                let d: f64 = (0..TASK_INPUTS)
+                let d: f64 = (0..GEOMETRY)
                     .map(|j| ((a.x[j] - b.x[j]) / spread[j]).powi(2))
                     .sum();
                 (d, b)
