@@ -14,7 +14,7 @@ use infer::plan::Plan;
 use infer::poly::Poly;
 use infer::repair::{assess, rescale};
 use infer::retime::{RetimeWork, retime};
-use infer::template::{TemplateFile, TemplateSettings};
+use infer::template::{TaskNetworkFile, TemplateFile, TemplateSettings};
 use infer::{
     CarveBuffer, Config, DigParams, Ground, PlanError, Planner, PlannerSettings, QueryRanges,
     Terrain, Trajectory, TrenchTask, evaluate,
@@ -407,13 +407,22 @@ fn templates() -> &'static [infer::Template] {
         .templates
 }
 
+fn task_network() -> &'static TaskNetworkFile {
+    static FILE: std::sync::OnceLock<TaskNetworkFile> = std::sync::OnceLock::new();
+    FILE.get_or_init(|| {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../artifacts/task_network/seed_1.json");
+        TaskNetworkFile::from_json(&std::fs::read_to_string(path).unwrap()).unwrap()
+    })
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
 
-    /// Random tasks across the range: every plan the network planner and
-    /// the template planner return holds every limit in continuous time
-    /// and verifies; a task the template planner cannot plan is an error
-    /// naming the dig.
+    /// Random tasks across the range: every plan the greedy, template and
+    /// learned planners return holds every limit in continuous time and
+    /// verifies; a task the template or learned planner cannot plan is an
+    /// error naming the dig.
     #[test]
     fn every_plan_holds_its_limits_in_continuous_time(
         length in 0.45f64..0.85,
@@ -430,15 +439,22 @@ proptest! {
         prop_assert!(plan.verify(&planner).is_ok());
         prop_assert_eq!(holds_in_continuous_time(planner.config(), &plan), Ok(()));
         let settings = TemplateSettings { neighbours: 2, max_evaluations: 600, ..TemplateSettings::default() };
-        match planner.plan_from_templates(&task, templates(), &settings) {
-            Ok(plan) => {
-                prop_assert!(plan.verify(&planner).is_ok());
-                prop_assert_eq!(holds_in_continuous_time(planner.config(), &plan), Ok(()));
+        let network = task_network();
+        let net = network.network().unwrap();
+        for planned in [
+            planner.plan_from_templates(&task, templates(), &settings),
+            planner.plan_learned(&task, &net, &settings),
+        ] {
+            match planned {
+                Ok(plan) => {
+                    prop_assert!(plan.verify(&planner).is_ok());
+                    prop_assert_eq!(holds_in_continuous_time(planner.config(), &plan), Ok(()));
+                }
+                Err(e @ (PlanError::Template { .. } | PlanError::Pose { .. })) => {
+                    prop_assert!(e.dig().is_some(), "{}", e);
+                }
+                Err(e) => prop_assert!(false, "{task:?}: {e}"),
             }
-            Err(e @ (PlanError::Template { .. } | PlanError::Pose { .. })) => {
-                prop_assert!(e.dig().is_some(), "{}", e);
-            }
-            Err(e) => prop_assert!(false, "{task:?}: {e}"),
         }
     }
 }
