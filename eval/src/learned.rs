@@ -7,6 +7,7 @@
 
 use crate::error::{EvalError, write_file};
 use crate::networks::Networks;
+use crate::planning::PlanFailure;
 use crate::tasks::NamedTask;
 use crate::whole::PlanSummary;
 use infer::Planner;
@@ -37,7 +38,7 @@ pub struct PlannerTotals {
     pub planner: String,
     pub tasks: usize,
     /// Plans returned whole (the greedy planner may stop with material
-    /// left that no dig can take).
+    /// left that no feasible dig takes); the figures below are over these.
     pub finished: usize,
     /// Tasks whose under- and over-dug areas are each ≤ 3 % of the design.
     pub within_3_percent: usize,
@@ -78,10 +79,7 @@ pub fn compare(
     for file in networks {
         let net = file.network()?;
         for (label, s) in [("refit", settings), ("least refit", &least)] {
-            let name = format!(
-                "learned seed {} ({label}, ≤ {} evaluations)",
-                file.seed, s.max_evaluations
-            );
+            let name = learned_name(file.seed, label, s);
             for t in tasks {
                 let plan = planner.plan_learned(&t.task, &net, s);
                 rows.push(row(t, &name, plan));
@@ -99,10 +97,14 @@ pub fn compare(
     }
     if let Some(nets) = &compared.dig_networks {
         let mut pair = nets.pair()?;
+        let greedy = "dig networks (greedy, dig by dig)";
         for t in tasks {
             let plan = planner.plan(&t.task, &mut pair);
-            rows.push(row(t, "dig networks (greedy, dig by dig)", plan));
+            rows.push(row(t, greedy, plan));
             bar.inc(1);
+        }
+        if let Some(first) = networks.first() {
+            rows.extend(as_plan_runs_it(&rows, first.seed, settings, greedy));
         }
     }
     let mut names: Vec<String> = Vec::new();
@@ -123,6 +125,42 @@ pub fn compare(
     })
 }
 
+fn learned_name(seed: u64, bound: &str, settings: &TemplateSettings) -> String {
+    format!(
+        "learned seed {seed} ({bound}, ≤ {} evaluations)",
+        settings.max_evaluations
+    )
+}
+
+/// What `plan` gives by default: the first network's plan at the full
+/// bound, or the greedy plan where it has none.
+fn as_plan_runs_it(
+    rows: &[LearnedRow],
+    seed: u64,
+    settings: &TemplateSettings,
+    greedy: &str,
+) -> Vec<LearnedRow> {
+    let learned = learned_name(seed, "refit", settings);
+    let name = format!("plan's default (learned seed {seed}, else greedy)");
+    let of =
+        |task: &str, planner: &str| rows.iter().find(|r| r.task == task && r.planner == planner);
+    rows.iter()
+        .filter(|r| r.planner == learned)
+        .filter_map(|r| {
+            let used = if r.result.is_ok() {
+                Some(r)
+            } else {
+                of(&r.task, greedy)
+            }?;
+            Some(LearnedRow {
+                task: r.task.clone(),
+                planner: name.clone(),
+                result: used.result.clone(),
+            })
+        })
+        .collect()
+}
+
 fn row(
     t: &NamedTask,
     planner: &str,
@@ -132,7 +170,15 @@ fn row(
         task: t.name.clone(),
         planner: planner.into(),
         result: plan
-            .map(|p| PlanSummary::of_plan(&p, None))
+            .map(|p| {
+                // A greedy plan may stop with design material left that no
+                // feasible dig takes: not finished, as the pipeline counts it.
+                let stopped = p.stopped.clone().map(|message| PlanFailure {
+                    dig: p.digs.len() + 1,
+                    message,
+                });
+                PlanSummary::of_plan(&p, stopped)
+            })
             .map_err(|e| e.to_string()),
     }
 }
@@ -196,7 +242,7 @@ impl LearnedReport {
         }
         let _ = writeln!(
             out,
-            "\nPlanning times are wall clock on the machine that ran the command, one task after the other; the benchmark figures are criterion's."
+            "\nFinished: a plan returned whole (the greedy planner may stop with material left that no feasible dig takes); the area and time columns are over the finished plans. Plan's default: the first network's plan, or the greedy one where it has none (as `plan` does; its times leave out the failed learned attempt). Planning times are wall clock on the machine that ran the command, one task after the other; the benchmark figures are criterion's."
         );
         out
     }
@@ -208,5 +254,53 @@ impl LearnedReport {
             &dir.join("report.json"),
             &serde_json::to_string_pretty(self)?,
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn summary(under_dug: f64) -> PlanSummary {
+        serde_json::from_value(serde_json::json!({
+            "digs": 3, "complete": true, "failure": null, "total_time_s": 20.0,
+            "total_energy_wh": 0.2, "total_volume_cm3": 13000.0, "mean_objective": 0.5,
+            "under_dug": under_dug, "over_dug": 0.01, "max_over_depth_mm": 10.0,
+            "planning_seconds": 0.05, "predicted": 0, "rescaled": 0, "refined": 0,
+            "fitted": 0, "templated": 3, "infeasible": 0
+        }))
+        .unwrap()
+    }
+
+    fn row(task: &str, planner: &str, result: Result<PlanSummary, String>) -> LearnedRow {
+        LearnedRow {
+            task: task.into(),
+            planner: planner.into(),
+            result,
+        }
+    }
+
+    #[test]
+    fn plans_default_is_the_learned_plan_else_the_greedy_one() {
+        let settings = TemplateSettings::default();
+        let learned = learned_name(2, "refit", &settings);
+        let rows = [
+            row("A", &learned, Ok(summary(0.05))),
+            row("B", &learned, Err("no refit is feasible".into())),
+            row("A", "greedy", Ok(summary(0.3))),
+            row("B", "greedy", Ok(summary(0.2))),
+            row(
+                "A",
+                &learned_name(1, "refit", &settings),
+                Err("other seed".into()),
+            ),
+        ];
+        let default = as_plan_runs_it(&rows, 2, &settings, "greedy");
+        let under: Vec<(String, f64)> = default
+            .iter()
+            .map(|r| (r.task.clone(), r.result.as_ref().unwrap().under_dug))
+            .collect();
+        assert_eq!(under, vec![("A".into(), 0.05), ("B".into(), 0.2)]);
+        assert!(default.iter().all(|r| r.planner.contains("seed 2")));
     }
 }
