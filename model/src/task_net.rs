@@ -1,9 +1,10 @@
 //! The task network: a trench task's geometry and dig count X = [L, D, β1,
-//! β2, far edge, n] → its whole dig sequence, each dig's variables as coordinates of the
-//! task's search box (`infer::template::learned`), for 6 digs. Dense tanh
-//! layers with the input and output normalisation stored in the module,
-//! as [`crate::network::DigNet`]; [`TaskNet::export`] writes the
-//! `task-network/2` file that `infer::template::TaskNetwork` evaluates.
+//! β2, far edge, n] → its whole dig sequence, each dig's variables as
+//! coordinates of the task's search box (`infer::template::learned`), for
+//! up to 6 digs. Dense tanh layers with the input and output normalisation
+//! stored in the module, as [`crate::network::DigNet`]; [`TaskNet::export`]
+//! writes the `task-network/2` file that `infer::template::TaskNetwork`
+//! evaluates.
 
 use crate::dense::{self, buffer_like, row, to_f64};
 use burn::module::{Module, Param};

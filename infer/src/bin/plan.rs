@@ -72,7 +72,8 @@ struct Args {
     #[arg(long, conflicts_with_all = ["task", "task_file", "length", "greedy", "refine", "templates", "learned", "move_controller", "move_slip"])]
     verify: Option<PathBuf>,
     /// The tracker of the machine's moves back along the trench (default:
-    /// the settings', fuzzy).
+    /// the settings', fuzzy). Only the greedy planner moves the machine,
+    /// also where it is the others' fallback.
     #[arg(long, value_enum)]
     move_controller: Option<Tracker>,
     /// Mean track slip of those moves, 0 to 0.5 (default: the settings', 0.1).

@@ -42,9 +42,10 @@ impl<'a> TaskNetwork<'a> {
     }
 
     /// The `count` digs the network gives `task` (whose design is
-    /// `design`) planned in that many digs, as a template of that task: its
-    /// variables taken from box coordinates back into the task's box. An error if `count` is 0 or
-    /// more than [`MAX_TEMPLATE_DIGS`], or the forward pass is not finite.
+    /// `design`) planned in that many digs, as a template of that task:
+    /// its variables taken from box coordinates back into the task's box.
+    /// An error if `count` is 0 or more than [`MAX_TEMPLATE_DIGS`], or the
+    /// forward pass is not finite.
     pub fn predict(
         &self,
         cfg: &Config,
