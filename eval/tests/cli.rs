@@ -12,8 +12,14 @@ fn eval() -> Command {
 
 #[test]
 fn bad_input_exits_with_2() {
+    let below_the_least = std::env::temp_dir().join(format!("eval-ts-{}.json", std::process::id()));
+    std::fs::write(&below_the_least, r#"{"max_evaluations": 10}"#).unwrap();
+    let below_the_least = below_the_least.to_str().unwrap();
     for args in [
         &["compare", "--networks", "/nonexistent"][..],
+        &["learned", "--dig-networks", "/nonexistent"],
+        &["learned", "--template-settings", "/nonexistent"],
+        &["learned", "--template-settings", below_the_least],
         &["compare", "--optimisers", "pso,simplex"],
         &["--threads", "0", "compare"],
         &["pipeline", "--per-type", "0"],

@@ -8,6 +8,7 @@ use eval::networks::Networks;
 use eval::pipeline::{self, PipelineSettings};
 use eval::whole::TemplatePlanning;
 use eval::{EvalError, benchmarks, output, tables};
+use infer::template::TemplateSettings;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -164,6 +165,11 @@ enum Command {
         /// (`none`: not run).
         #[arg(long, default_value = "artifacts")]
         dig_networks: String,
+        /// Learned and template planner settings as JSON
+        /// (`infer::template::TemplateSettings`; any field left out keeps
+        /// its default), e.g. another bound on exact evaluations.
+        #[arg(long)]
+        template_settings: Option<PathBuf>,
         /// Fresh random tasks from the library's wide ranges.
         #[arg(long, default_value_t = 40)]
         fresh: usize,
@@ -319,10 +325,23 @@ fn run(cli: Cli) -> Result<(), EvalError> {
             networks,
             templates,
             dig_networks,
+            template_settings,
             fresh,
             fresh_seed,
             out,
         } => {
+            let settings: TemplateSettings = match &template_settings {
+                None => TemplateSettings::default(),
+                Some(path) => {
+                    let bad =
+                        |e: String| EvalError::BadArgument(format!("{}: {e}", path.display()));
+                    let text = std::fs::read_to_string(path).map_err(|e| bad(e.to_string()))?;
+                    let s: TemplateSettings =
+                        serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
+                    s.validate().map_err(|e| bad(e.to_string()))?;
+                    s
+                }
+            };
             let dig_networks = match dig_networks.as_str() {
                 "none" => None,
                 dir => Some(Networks::load(std::path::Path::new(dir))?),
@@ -332,7 +351,9 @@ fn run(cli: Cli) -> Result<(), EvalError> {
                     .map_err(EvalError::BadArgument)?,
                 dig_networks,
             };
-            learned(&networks, &compared, fresh, fresh_seed, &out, progress)?
+            learned(
+                &networks, &compared, &settings, fresh, fresh_seed, &out, progress,
+            )?
         }
         Command::BenchSummary {
             networks,
@@ -359,6 +380,7 @@ fn run(cli: Cli) -> Result<(), EvalError> {
 fn learned(
     networks: &std::path::Path,
     compared: &eval::learned::Compared,
+    settings: &TemplateSettings,
     fresh: usize,
     fresh_seed: u64,
     out: &std::path::Path,
@@ -412,7 +434,7 @@ fn learned(
         &tasks,
         &files,
         compared,
-        &Default::default(),
+        settings,
         &bar,
         &command_line(),
     )?;
