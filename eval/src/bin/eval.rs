@@ -79,10 +79,7 @@ impl EvalArgs {
             }
         }
         if let Some(path) = &self.planner {
-            let text = std::fs::read_to_string(path)
-                .map_err(|e| EvalError::BadArgument(format!("{}: {e}", path.display())))?;
-            s.planner = serde_json::from_str(&text)
-                .map_err(|e| EvalError::BadArgument(format!("{}: {e}", path.display())))?;
+            s.planner = read_json(path)?;
         }
         if let Some(names) = &self.optimisers {
             s.baselines = names
@@ -333,12 +330,9 @@ fn run(cli: Cli) -> Result<(), EvalError> {
             let settings: TemplateSettings = match &template_settings {
                 None => TemplateSettings::default(),
                 Some(path) => {
-                    let bad =
-                        |e: String| EvalError::BadArgument(format!("{}: {e}", path.display()));
-                    let text = std::fs::read_to_string(path).map_err(|e| bad(e.to_string()))?;
-                    let s: TemplateSettings =
-                        serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
-                    s.validate().map_err(|e| bad(e.to_string()))?;
+                    let s: TemplateSettings = read_json(path)?;
+                    s.validate()
+                        .map_err(|e| EvalError::BadArgument(format!("{}: {e}", path.display())))?;
                     s
                 }
             };
@@ -374,6 +368,13 @@ fn run(cli: Cli) -> Result<(), EvalError> {
         }
     }
     Ok(())
+}
+
+/// A settings file: JSON of `T`, any field left out keeping its default.
+fn read_json<T: serde::de::DeserializeOwned>(path: &std::path::Path) -> Result<T, EvalError> {
+    let bad = |e: String| EvalError::BadArgument(format!("{}: {e}", path.display()));
+    let text = std::fs::read_to_string(path).map_err(|e| bad(e.to_string()))?;
+    serde_json::from_str(&text).map_err(|e| bad(e.to_string()))
 }
 
 /// `eval learned`: see [`Command::Learned`].
