@@ -14,6 +14,8 @@
 //! | [`resistance`] | `resistance.rs` |
 //! | [`dynamics`] | `dynamics.rs` |
 //! | [`volume`] | `terrain.rs` (carving) — **a surrogate**, see below |
+//! | [`carving`] | `terrain.rs` (carving on a grid, exact at the nodes) |
+//! | [`sequence`] | `sequence/` (a plan played on the surface) and `DesignProfile::compare` |
 //! | [`dig`] | `dig/` (figures and checks in `excavator.rs`, objective and dig angle in `mod.rs`) |
 //! | [`losses`] | spec §8 (no counterpart in `infer`) |
 //!
@@ -32,11 +34,13 @@
 //! Tensors may live on any device and float dtype (f32 or f64); the test
 //! suite runs f64 for agreement with `infer` and checks f32 more loosely.
 
+pub mod carving;
 pub mod dig;
 pub mod dynamics;
 pub mod kinematics;
 pub mod losses;
 pub mod resistance;
+pub mod sequence;
 pub mod trajectory;
 pub mod volume;
 

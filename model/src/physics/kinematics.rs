@@ -53,3 +53,27 @@ pub fn mul_jacobian(j: &[[Tensor<2>; 3]; 2], v: &[Tensor<2>; 3]) -> [Tensor<2>; 
             + j[r][2].clone() * v[2].clone()
     })
 }
+
+/// Joint angles reaching the tip poses (x, y, ζ) (each `[B, 1]`) on the
+/// θ2 ≤ 0 branch, θ3 wrapped into (−π, π] (`infer::kinematics::inverse`
+/// with `Elbow::Negative`). A pose out of reach is not an error here: cos θ2
+/// is clamped just inside [−1, 1], so the loss stays finite and the
+/// motion checks see the nearest reachable angles.
+pub fn inverse(l: &[f64; 3], x: Tensor<2>, y: Tensor<2>, zeta: Tensor<2>) -> [Tensor<2>; 3] {
+    use core::f64::consts::PI;
+    let [l1, l2, l3] = *l;
+    let wx = x - zeta.clone().cos() * l3;
+    let wy = y - zeta.clone().sin() * l3;
+    let c2 = ((wx.clone().square() + wy.clone().square() - l1 * l1 - l2 * l2) / (2.0 * l1 * l2))
+        .clamp(-1.0 + 1e-9, 1.0 - 1e-9);
+    let theta2 = c2.clone().acos().neg();
+    let s2 = theta2.clone().sin();
+    let theta1 = wy.atan2(wx) - (s2 * l2).atan2(c2 * l2 + l1);
+    let raw = zeta - theta1.clone() - theta2.clone();
+    // Into (−π, π]: the one turn at most that a sum of three angles needs.
+    let over = raw.clone().greater_elem(PI);
+    let under = raw.clone().lower_equal_elem(-PI);
+    let theta3 = raw.clone().mask_where(over, raw.clone() - 2.0 * PI);
+    let theta3 = theta3.clone().mask_where(under, theta3 + 2.0 * PI);
+    [theta1, theta2, theta3]
+}
