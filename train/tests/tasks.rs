@@ -54,6 +54,9 @@ fn the_shipped_library_trains_a_network_infer_reads() {
     let first = a.log.first().unwrap().train;
     let last = a.log.last().unwrap().train;
     assert!(last.data < first.data, "data loss {first:?} → {last:?}");
+    // The plans the network gives, carved, come nearer their designs.
+    assert!(last.profile < first.profile, "profile {first:?} → {last:?}");
+    assert!(first.profile > 0.0 && first.fill >= 0.0);
     // The kept network is the epoch of least validation total.
     assert!((1..=a.log.len()).contains(&a.best_epoch));
     // Same seed, same network (the batch order and initial weights derive from it).
@@ -96,6 +99,14 @@ fn bad_settings_and_folders_give_errors() {
             time_samples: 2,
             ..small()
         },
+        TaskTrainSettings {
+            profile: -1.0,
+            ..small()
+        },
+        TaskTrainSettings {
+            profile_dx: 0.0,
+            ..small()
+        },
     ] {
         assert!(train_task_network(&samples, &bad, 1, &runtime(), false).is_err());
     }
@@ -123,6 +134,7 @@ fn synthetic(n: usize, f: impl Fn(f64) -> f64, noise: impl Fn(usize) -> f64) -> 
             }
             TaskSample {
                 index: i + 1,
+                task: infer::TrenchTask::reference('A').unwrap(),
                 x: [0.4 + 0.4 * t, 0.1, 1.0, 1.0, 1.0, 1.0],
                 y,
                 count: 1,

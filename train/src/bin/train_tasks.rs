@@ -30,6 +30,9 @@ struct Cli {
     /// Weight of the physics term (0: data only).
     #[arg(long)]
     physics: Option<f64>,
+    /// Weight of the profile and fill terms (0: leave the plan's carving out).
+    #[arg(long)]
+    profile: Option<f64>,
     #[arg(long)]
     no_progress: bool,
 }
@@ -47,6 +50,9 @@ fn run(cli: &Cli) -> Result<(), String> {
     }
     if let Some(v) = cli.physics {
         settings.physics = v;
+    }
+    if let Some(v) = cli.profile {
+        settings.profile = v;
     }
     if cli.seeds.is_empty() {
         return Err("--seeds: at least one seed".into());
@@ -70,10 +76,12 @@ fn run(cli: &Cli) -> Result<(), String> {
         write(&file, &outcome.net.export(seed).to_json())?;
         let best = outcome.log[outcome.best_epoch - 1];
         eprintln!(
-            "seed {seed}: epoch {} kept, validation data {:.4}, physics {:.4}, {:.0} s → {}",
+            "seed {seed}: epoch {} kept, validation data {:.4}, physics {:.4}, profile {:.4}, fill {:.4}, {:.0} s → {}",
             best.epoch,
             best.validation.data,
             best.validation.physics,
+            best.validation.profile,
+            best.validation.fill,
             outcome.seconds,
             file.display()
         );

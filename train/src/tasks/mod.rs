@@ -1,20 +1,25 @@
 //! Training the task network (`model::task_net`) on a plan library: each
 //! task's geometry → its whole dig sequence.
 //!
-//! The loss has two parts, and R(W):
+//! The loss has four parts, and R(W):
 //! - data: the mean, over the digs a plan has, of the squared error of the
 //!   dig's 10 normalised box coordinates (digs past a plan's count are
 //!   masked out);
 //! - physics: every predicted dig's motion checks under the tensor physics
 //!   (`model::physics::motion_penalty`), its Y = [a16, a26, a36, T] taken
 //!   from the predicted bends and T, its query (joint angles at start and
-//!   end, and H) from the library plan's dig (teacher forcing: the query
-//!   of the predicted start and end would need the surface the earlier
-//!   digs left, which has no tensor form here).
+//!   end, and H) from the library plan's dig (teacher forcing);
+//! - profile: the predicted plan played on the surface
+//!   (`model::physics::sequence`: each dig from the surface the earlier
+//!   ones left, carved as `infer` carves), its under- plus over-dug area
+//!   as a fraction of the design's, mean over tasks;
+//! - fill: each predicted dig's carved volume against V_min and V_max,
+//!   normalised by their gap and backed off by the margin, mean over digs
+//!   (a plan whose dig cannot fill the bucket is what the planner most
+//!   often has to refit).
 //!
-//! The profile error of the whole sequence is not in the loss: carving the
-//! surface has no tensor form yet. The planner checks every dig and the
-//! profile with the exact model and refits (`infer::template::learned`).
+//! The planner still checks every dig and the profile with the exact model
+//! and refits (`infer::template::learned`).
 
 use crate::data::derive_seed;
 use crate::error::TrainError;
@@ -25,7 +30,8 @@ use burn::tensor::TensorData;
 use dataset_gen::jobs::progress_bar;
 use infer::template::Template;
 use infer::template::learned::{TASK_INPUTS, TASK_OUTPUTS, box_coordinates, task_inputs};
-use infer::{DigType, Planner};
+use infer::{DigType, Planner, TrenchTask};
+use model::physics::sequence::{Designs, play};
 use model::physics::{dig_figures, motion_penalty};
 use model::task_net::{TaskNet, TaskNormalisation};
 use serde::{Deserialize, Serialize};
@@ -42,6 +48,7 @@ const DIGS: usize = infer::template::MAX_TEMPLATE_DIGS;
 pub struct TaskSample {
     /// Its task number in the library (which split it falls in).
     pub index: usize,
+    pub task: TrenchTask,
     /// L, D, β1, β2, far edge and the dig count (`task_inputs`).
     pub x: [f64; TASK_INPUTS],
     /// Box coordinates of each dig; zeros past `count`.
@@ -95,6 +102,7 @@ pub fn load_library(
         }
         samples.push(TaskSample {
             index,
+            task: plan.task,
             x: task_inputs(&plan.task, template.digs().len()),
             y,
             count: template.digs().len(),
@@ -135,6 +143,10 @@ pub struct TaskTrainSettings {
     pub margin: f64,
     /// Time samples of the tensor physics.
     pub time_samples: usize,
+    /// Weight of the profile and fill terms (0: left out, and not computed).
+    pub profile: f64,
+    /// Node spacing of the grid the profile is carved on \[m\].
+    pub profile_dx: f64,
     /// Weight of R(W).
     pub regulariser: f64,
 }
@@ -150,6 +162,8 @@ impl Default for TaskTrainSettings {
             physics: 0.1,
             margin: 0.02,
             time_samples: 33,
+            profile: 1.0,
+            profile_dx: 0.01,
             regulariser: 1e-6,
         }
     }
@@ -169,11 +183,16 @@ impl TaskTrainSettings {
             && self.margin >= 0.0
             && self.time_samples >= 3
             && self.regulariser >= 0.0
+            && self.profile >= 0.0
+            && self.profile_dx > 0.0
+            && self.profile_dx <= 0.05
             && [
                 self.learning_rate,
                 self.decay,
                 self.physics,
                 self.margin,
+                self.profile,
+                self.profile_dx,
                 self.regulariser,
             ]
             .iter()
@@ -182,7 +201,7 @@ impl TaskTrainSettings {
             Ok(())
         } else {
             Err(TrainError::Config(
-                "task training: hidden 1–7 layers of 1–256, epochs, batch size and time samples (≥ 3) positive, learning rate > 0, decay in (0, 1], weights and margin ≥ 0".into(),
+                "task training: hidden 1–7 layers of 1–256, epochs, batch size and time samples (≥ 3) positive, learning rate > 0, decay in (0, 1], weights and margin ≥ 0, profile_dx in (0, 0.05] m".into(),
             ))
         }
     }
@@ -193,6 +212,12 @@ impl TaskTrainSettings {
 pub struct TaskTerms {
     pub data: f64,
     pub physics: f64,
+    /// Under- plus over-dug fraction of the played plan (0 when not computed).
+    #[serde(default)]
+    pub profile: f64,
+    /// Carved-volume violation per dig (0 when not computed).
+    #[serde(default)]
+    pub fill: f64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -250,18 +275,26 @@ fn normalisation(train: &[&TaskSample]) -> TaskNormalisation {
     }
 }
 
-/// A batch on `device`: X [B, 5], box coordinates [B, 60], the mask of
-/// the digs each plan has [B, 60], and per dig type the one-hot rows that
-/// pick its digs out of the [B·6, 10] predictions with their queries.
+/// A batch on `device`: X [B, 6], box coordinates [B, 60], the mask of
+/// the digs each plan has [B, 60], per dig type the one-hot rows that
+/// pick its digs out of the [B·6, 10] predictions with their queries, and
+/// (when the profile is weighed) the tasks' designs with the mask of
+/// digs [B, 6].
 struct Batch {
     x: Tensor<2>,
     y: Tensor<2>,
     mask: Tensor<2>,
     digs: f64,
     by_type: Vec<(DigType, Tensor<2>, Tensor<2>)>,
+    designs: Option<(Designs, Tensor<2>)>,
 }
 
-fn batch(samples: &[&TaskSample], device: &Device) -> Batch {
+fn batch(
+    samples: &[&TaskSample],
+    device: &Device,
+    cfg: &infer::Config,
+    s: &TaskTrainSettings,
+) -> Batch {
     let b = samples.len();
     let mut x = Vec::with_capacity(b * TASK_INPUTS);
     let mut y = Vec::with_capacity(b * TASK_OUTPUTS);
@@ -304,7 +337,19 @@ fn batch(samples: &[&TaskSample], device: &Device) -> Batch {
             ))
         })
         .collect();
+    let designs = (s.profile > 0.0).then(|| {
+        let tasks: Vec<TrenchTask> = samples.iter().map(|s| s.task).collect();
+        let mask: Vec<f64> = samples
+            .iter()
+            .flat_map(|s| (0..DIGS).map(move |k| if k < s.count { 1.0 } else { 0.0 }))
+            .collect();
+        (
+            Designs::new(cfg, &tasks, s.profile_dx, device),
+            Tensor::from_data(TensorData::new(mask, [b, DIGS]), device),
+        )
+    });
     Batch {
+        designs,
         x: Tensor::from_data(TensorData::new(x, [b, TASK_INPUTS]), device),
         y: Tensor::from_data(TensorData::new(y, [b, TASK_OUTPUTS]), device),
         mask: Tensor::from_data(TensorData::new(mask, [b, TASK_OUTPUTS]), device),
@@ -313,17 +358,39 @@ fn batch(samples: &[&TaskSample], device: &Device) -> Batch {
     }
 }
 
-/// Data and physics terms of a batch, and their weighted total.
-fn terms(
-    net: &TaskNet,
-    batch: &Batch,
-    cfg: &infer::Config,
-    s: &TaskTrainSettings,
-) -> (Tensor<1>, Tensor<1>, Tensor<1>) {
+/// The loss terms of a batch (see the module docs), each `[1]`.
+struct Terms {
+    data: Tensor<1>,
+    physics: Tensor<1>,
+    profile: Tensor<1>,
+    fill: Tensor<1>,
+    total: Tensor<1>,
+}
+
+impl Terms {
+    fn read(&self) -> TaskTerms {
+        TaskTerms {
+            data: read(&self.data),
+            physics: read(&self.physics),
+            profile: read(&self.profile),
+            fill: read(&self.fill),
+        }
+    }
+}
+
+/// The loss terms of a batch and their weighted total.
+fn terms(net: &TaskNet, batch: &Batch, cfg: &infer::Config, s: &TaskTrainSettings) -> Terms {
     let y_n = net.forward(batch.x.clone());
     let target_n = net.normalise_y(batch.y.clone());
     let data = ((y_n.clone() - target_n).square() * batch.mask.clone()).sum() / batch.digs;
     let u = net.denormalise_y(y_n);
+    let (profile, fill) = match &batch.designs {
+        Some((designs, digs)) => carved_terms(cfg, s, designs, u.clone(), digs.clone()),
+        None => {
+            let zero = Tensor::<1>::zeros([1], &batch.x.device());
+            (zero.clone(), zero)
+        }
+    };
     let b = u.dims()[0];
     let per_dig = u.reshape([b * DIGS, VARS]);
     let [t0, t1] = cfg.objective.duration;
@@ -340,8 +407,37 @@ fn terms(
         let n = pick.dims()[0] as f64;
         physics = physics + motion_penalty(&figures, s.margin) * (n / batch.digs);
     }
-    let total = data.clone() + physics.clone() * s.physics + net.weight_penalty() * s.regulariser;
-    (data, physics, total)
+    let total = data.clone()
+        + physics.clone() * s.physics
+        + (profile.clone() + fill.clone()) * s.profile
+        + net.weight_penalty() * s.regulariser;
+    Terms {
+        data,
+        physics,
+        profile,
+        fill,
+        total,
+    }
+}
+
+/// Profile and fill terms of the plans `u` (box coordinates) played on
+/// their designs; `digs` says which digs each plan has.
+fn carved_terms(
+    cfg: &infer::Config,
+    s: &TaskTrainSettings,
+    designs: &Designs,
+    u: Tensor<2>,
+    digs: Tensor<2>,
+) -> (Tensor<1>, Tensor<1>) {
+    let played = play(cfg, designs, u, digs.clone());
+    let profile = (played.under + played.over).mean();
+    let [v_min, v_max] = cfg.objective.volume;
+    let gap = v_max - v_min;
+    let volume = played.removed * cfg.machine.bucket_width;
+    let short = (volume.clone().neg() + v_min) / gap + s.margin;
+    let over = (volume - v_max) / gap + s.margin;
+    let violation = (short.clamp_min(0.0) + over.clamp_min(0.0)) * digs.clone();
+    (profile, violation.sum() / digs.sum())
 }
 
 fn read(t: &Tensor<1>) -> f64 {
@@ -381,7 +477,7 @@ pub fn train_task_network(
         derive_seed(seed, 0x7A5C, 0),
     );
     let mut optim = AdamConfig::new().init();
-    let validation_batch = batch(&validation, &base);
+    let validation_batch = batch(&validation, &base, &cfg, settings);
     let bar = progress_bar(settings.epochs as u64, "epochs", progress);
     bar.set_message(format!("task network, seed {seed}"));
     let started = Instant::now();
@@ -396,27 +492,25 @@ pub fn train_task_network(
         let mut sums = TaskTerms::default();
         for chunk in order.chunks(settings.batch_size) {
             let picked: Vec<&TaskSample> = chunk.iter().map(|&i| train[i]).collect();
-            let (data, physics, total) = terms(&net, &batch(&picked, &device), &cfg, settings);
-            let w = chunk.len() as f64 / train.len() as f64;
-            sums.data += read(&data) * w;
-            sums.physics += read(&physics) * w;
-            if !(sums.data.is_finite() && sums.physics.is_finite()) {
+            let t = terms(&net, &batch(&picked, &device, &cfg, settings), &cfg, settings);
+            let (r, w) = (t.read(), chunk.len() as f64 / train.len() as f64);
+            if ![r.data, r.physics, r.profile, r.fill].iter().all(|v| v.is_finite()) {
                 return Err(TrainError::NonFiniteLoss {
                     epoch: epoch + 1,
                     batch: 0,
-                    terms: format!("data {} physics {}", sums.data, sums.physics),
+                    terms: format!("{r:?}"),
                 });
             }
-            let grads = GradientsParams::from_grads(total.backward(), &net);
+            sums.data += r.data * w;
+            sums.physics += r.physics * w;
+            sums.profile += r.profile * w;
+            sums.fill += r.fill * w;
+            let grads = GradientsParams::from_grads(t.total.backward(), &net);
             net = optim.step(lr, net, grads);
         }
         let valid = net.valid();
-        let (data, physics, total) = terms(&valid, &validation_batch, &cfg, settings);
-        let validation = TaskTerms {
-            data: read(&data),
-            physics: read(&physics),
-        };
-        let total = read(&total);
+        let t = terms(&valid, &validation_batch, &cfg, settings);
+        let (validation, total) = (t.read(), read(&t.total));
         if best.as_ref().is_none_or(|(t, _, _)| total < *t) {
             best = Some((total, epoch + 1, valid));
         }

@@ -38,7 +38,7 @@ impl TaskTrainReport {
         let _ = writeln!(out, "# Task network training\n");
         let _ = writeln!(
             out,
-            "Library `{}`: {} tasks train, {} validate (every eighth), {} plans skipped. Hidden layers {:?}, {} epochs, physics weight {}, margin {}.\n",
+            "Library `{}`: {} tasks train, {} validate (every eighth), {} plans skipped. Hidden layers {:?}, {} epochs, physics weight {}, profile and fill weight {} (grid {} mm), margin {}.\n",
             self.library,
             self.train_tasks,
             self.validation_tasks,
@@ -46,6 +46,8 @@ impl TaskTrainReport {
             self.settings.hidden,
             self.settings.epochs,
             self.settings.physics,
+            self.settings.profile,
+            self.settings.profile_dx * 1e3,
             self.settings.margin,
         );
         if let Some(sm) = &self.smoothness {
@@ -59,41 +61,45 @@ impl TaskTrainReport {
         }
         let _ = writeln!(
             out,
-            "| seed | kept epoch | train data | train physics | validation data | validation physics | seconds |\n|---|---|---|---|---|---|---|"
+            "| seed | kept epoch | train data | train physics | train profile | train fill | validation data | validation physics | validation profile | validation fill | seconds |\n|---|---|---|---|---|---|---|---|---|---|---|"
         );
         for r in &self.runs {
             let l = &r.best;
             let _ = writeln!(
                 out,
-                "| {} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.0} |",
+                "| {} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.0} |",
                 r.seed,
                 l.epoch,
                 l.train.data,
                 l.train.physics,
+                l.train.profile,
+                l.train.fill,
                 l.validation.data,
                 l.validation.physics,
+                l.validation.profile,
+                l.validation.fill,
                 r.seconds
             );
         }
         let _ = writeln!(
             out,
-            "\nData: mean over digs of the squared error of the 10 normalised box coordinates. Physics: mean over digs of the motion checks' penalty with the margin (teacher-forced queries). Each seed keeps the network of the epoch with the least validation total (data + weight × physics). Loss curves: `loss.svg`. Quality on tasks: `eval learned`."
+            "\nData: mean over digs of the squared error of the 10 normalised box coordinates. Physics: mean over digs of the motion checks' penalty with the margin (teacher-forced queries). Profile: the predicted plan carved on the surface, under- plus over-dug area as a fraction of the design's, mean over tasks. Fill: each predicted dig's carved volume beyond V_min or V_max, normalised by their gap, with the margin, mean over digs. Each seed keeps the network of the epoch with the least validation total (data + weights × the other terms). Loss curves: `loss.svg`. Quality on tasks: `eval learned`."
         );
         out
     }
 }
 
-/// Validation data and physics terms of every seed over the epochs
-/// (log scale), one panel each.
+/// The data, physics, profile and fill terms of every seed over the
+/// epochs (log scale), one panel each.
 pub fn plot(path: &Path, runs: &[SeedRun]) -> Result<(), TrainError> {
     use plotters::prelude::*;
     let e = |m: String| TrainError::BadData {
         path: path.to_path_buf(),
         detail: format!("plot: {m}"),
     };
-    let root = SVGBackend::new(path, (1000, 420)).into_drawing_area();
+    let root = SVGBackend::new(path, (1000, 800)).into_drawing_area();
     root.fill(&WHITE).map_err(|x| e(x.to_string()))?;
-    let panels = root.split_evenly((1, 2));
+    let panels = root.split_evenly((2, 2));
     let colours = [
         RGBColor(31, 119, 180),
         RGBColor(255, 127, 14),
@@ -105,7 +111,7 @@ pub fn plot(path: &Path, runs: &[SeedRun]) -> Result<(), TrainError> {
     for (k, panel) in panels.iter().enumerate() {
         let pick = |l: &TaskEpoch, val: bool| {
             let t = if val { l.validation } else { l.train };
-            [t.data, t.physics][k].max(FLOOR)
+            [t.data, t.physics, t.profile, t.fill][k].max(FLOOR)
         };
         let all: Vec<f64> = runs
             .iter()
@@ -113,7 +119,8 @@ pub fn plot(path: &Path, runs: &[SeedRun]) -> Result<(), TrainError> {
             .collect();
         let epochs = runs.iter().map(|r| r.log.len()).max().unwrap_or(2).max(2) as f64;
         let mut chart =
-            loss_panel(panel, ["data", "physics"][k], &all, FLOOR, epochs).map_err(e)?;
+            loss_panel(panel, ["data", "physics", "profile", "fill"][k], &all, FLOOR, epochs)
+                .map_err(e)?;
         for (i, r) in runs.iter().enumerate() {
             let c = colours[i % colours.len()];
             for val in [false, true] {
