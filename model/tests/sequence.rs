@@ -22,16 +22,17 @@ const VARS: usize = infer::sequence::DIG_VARS;
 /// Under- and over-dug fractions and each dig's removed area \[m²\] by
 /// `infer` for the plan `digs` (box coordinates): each dig decoded on the surface the earlier ones left, its tip
 /// polyline through `cfg.time_samples` samples carved.
-fn exact(planner: &Planner, task: &TrenchTask, digs: &[DigVars]) -> Option<(f64, f64, Vec<f64>)> {
+fn exact(planner: &Planner, task: &TrenchTask, digs: &[DigVars]) -> Option<Exact> {
     let cfg = planner.config();
     let design = DesignProfile::new(cfg, task);
     let mut terrain = planner.initial_terrain(&design).unwrap();
     let mut carve = CarveBuffer::default();
-    let mut areas = Vec::new();
+    let (mut areas, mut queries) = (Vec::new(), Vec::new());
     let (lo, hi) = dig_box(cfg, &design);
     for u in digs {
         let v: DigVars = core::array::from_fn(|i| lo[i] + u[i] * (hi[i] - lo[i]));
         let (dig, query) = query_of(cfg, &v, &terrain)?;
+        queries.push(query.input());
         let traj = infer::Trajectory::new(&query.start, &query.end, &dig.params).unwrap();
         let n = cfg.time_samples;
         let tip: Vec<[f64; 2]> = (0..n)
@@ -44,13 +45,28 @@ fn exact(planner: &Planner, task: &TrenchTask, digs: &[DigVars]) -> Option<(f64,
         areas.push(terrain.carve_path(&tip, &mut carve).unwrap());
     }
     let m = design.compare(&terrain);
-    Some((m.under_dug, m.over_dug, areas))
+    Some(Exact {
+        under: m.under_dug,
+        over: m.over_dug,
+        areas,
+        queries,
+    })
 }
 
 /// The library sample's plans as box coordinates (and their tasks), then
 /// `moved` copies of each at random within ±0.05 of the box (those whose
 /// poses `infer` can reach), each with `infer`'s figures.
-type Played = (TrenchTask, Vec<DigVars>, (f64, f64, Vec<f64>));
+/// What `infer` makes of a plan.
+struct Exact {
+    under: f64,
+    over: f64,
+    /// Area each dig removed \[m²\].
+    areas: Vec<f64>,
+    /// Each dig's query X = [θs1..3, θe1..3, H].
+    queries: Vec<[f64; 7]>,
+}
+
+type Played = (TrenchTask, Vec<DigVars>, Exact);
 
 fn plans(planner: &Planner, moved: usize) -> Vec<Played> {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/library_sample");
@@ -104,13 +120,14 @@ fn a_plan_played_in_tensors_digs_what_infer_digs() {
         Tensor::from_data(TensorData::new(u, [b, MAX_TEMPLATE_DIGS * VARS]), &device),
         mask,
     );
-    let (under, over, removed) = (
+    let (under, over, removed, queries) = (
         common::values(&played.under),
         common::values(&played.over),
         common::values(&played.removed),
+        common::values(&played.queries),
     );
-    for (i, (_, digs, (u_exact, o_exact, areas))) in plans.iter().enumerate() {
-        let (u_exact, o_exact) = (*u_exact, *o_exact);
+    for (i, (_, digs, e)) in plans.iter().enumerate() {
+        let (u_exact, o_exact) = (e.under, e.over);
         // On infer's own grid (its nodes fall 0.6 m, 240 spacings, from
         // the tensor grid's first), the two agree to rounding.
         assert!(
@@ -123,12 +140,20 @@ fn a_plan_played_in_tensors_digs_what_infer_digs() {
             "plan {i}: over-dug {} against {o_exact}",
             over[i]
         );
-        for (k, a) in areas.iter().enumerate() {
+        for (k, a) in e.areas.iter().enumerate() {
             let t = removed[i * MAX_TEMPLATE_DIGS + k];
             assert!(
                 (t - a).abs() < 1e-9,
                 "plan {i} dig {k}: area {t} against {a}"
             );
+            let row = (i * MAX_TEMPLATE_DIGS + k) * 7;
+            for (j, q) in e.queries[k].iter().enumerate() {
+                let t = queries[row + j];
+                assert!(
+                    (t - q).abs() < 1e-9,
+                    "plan {i} dig {k}: query {j} {t} against {q}"
+                );
+            }
         }
         for k in digs.len()..MAX_TEMPLATE_DIGS {
             assert_eq!(

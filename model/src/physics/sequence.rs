@@ -94,6 +94,9 @@ pub struct Played {
     pub surface: Surface,
     /// Area each dig removed \[m²\], `[B, digs]` (0 past a plan's count).
     pub removed: Tensor<2>,
+    /// Each dig's query X = [θs1..3, θe1..3, H] as `infer` asks it of its
+    /// poses (H: the surface at its start), `[B·digs, 7]`, row b·digs + k.
+    pub queries: Tensor<2>,
     /// Under- and over-dug area as fractions of the design area, `[B, 1]`
     /// each (`infer::ProfileMetrics::under_dug`, `over_dug`).
     pub under: Tensor<2>,
@@ -109,6 +112,7 @@ pub fn play(cfg: &Config, designs: &Designs, u: Tensor<2>, mask: Tensor<2>) -> P
     let l = &cfg.machine.link_length;
     let mut surface = designs.ground.clone();
     let mut removed = Vec::with_capacity(digs);
+    let mut queries = Vec::with_capacity(digs);
     for k in 0..digs {
         let box_u = u.clone().narrow(1, k * DIG_VARS, DIG_VARS);
         let v = designs.lo.clone() + box_u * (designs.hi.clone() - designs.lo.clone());
@@ -116,8 +120,12 @@ pub fn play(cfg: &Config, designs: &Designs, u: Tensor<2>, mask: Tensor<2>) -> P
         let (start_x, end_x) = (var(1), var(1) - var(2));
         let start_y = surface.height_at(start_x.clone());
         let end_y = surface.height_at(end_x.clone()) + var(3);
-        let start = inverse(l, start_x, start_y, var(4));
+        let start = inverse(l, start_x, start_y.clone(), var(4));
         let end = inverse(l, end_x, end_y, var(5));
+        let mut query = start.to_vec();
+        query.extend(end.iter().cloned());
+        query.push(start_y);
+        queries.push(Tensor::cat(query, 1).unsqueeze_dim::<3>(1));
         let duration = var(9);
         let half6 = (duration.clone() / 2.0).powi_scalar(6);
         let traj = Trajectory {
@@ -142,6 +150,7 @@ pub fn play(cfg: &Config, designs: &Designs, u: Tensor<2>, mask: Tensor<2>) -> P
         under: fraction(relu(s.clone().clamp_max(designs.ground_level) - d.clone())),
         over: fraction(relu(d - s)),
         removed: Tensor::cat(removed, 1),
+        queries: Tensor::cat(queries, 1).reshape([designs.area.dims()[0] * digs, 7]),
         surface,
     }
 }

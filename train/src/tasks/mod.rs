@@ -8,7 +8,10 @@
 //! - physics: every predicted dig's motion checks under the tensor physics
 //!   (`model::physics::motion_penalty`), its Y = [a16, a26, a36, T] taken
 //!   from the predicted bends and T, its query (joint angles at start and
-//!   end, and H) from the library plan's dig (teacher forcing);
+//!   end, and H) from its predicted poses on the surface the predicted
+//!   digs before it left (the played plan below); with the profile term
+//!   off, from the library plan's dig (teacher forcing). Its dig type is
+//!   the library dig's;
 //! - profile: the predicted plan played on the surface
 //!   (`model::physics::sequence`: each dig from the surface the earlier
 //!   ones left, carved as `infer` carves), its under- plus over-dug area
@@ -384,11 +387,14 @@ fn terms(net: &TaskNet, batch: &Batch, cfg: &infer::Config, s: &TaskTrainSetting
     let target_n = net.normalise_y(batch.y.clone());
     let data = ((y_n.clone() - target_n).square() * batch.mask.clone()).sum() / batch.digs;
     let u = net.denormalise_y(y_n);
-    let (profile, fill) = match &batch.designs {
-        Some((designs, digs)) => carved_terms(cfg, s, designs, u.clone(), digs.clone()),
+    let (profile, fill, played_queries) = match &batch.designs {
+        Some((designs, digs)) => {
+            let (p, f, q) = carved_terms(cfg, s, designs, u.clone(), digs.clone());
+            (p, f, Some(q))
+        }
         None => {
             let zero = Tensor::<1>::zeros([1], &batch.x.device());
-            (zero.clone(), zero)
+            (zero.clone(), zero, None)
         }
     };
     let b = u.dims()[0];
@@ -403,7 +409,11 @@ fn terms(net: &TaskNet, batch: &Batch, cfg: &infer::Config, s: &TaskTrainSetting
         let duration = d.narrow(1, 9, 1) * (t1 - t0) + t0;
         let half6 = (duration.clone() / 2.0).powi_scalar(6);
         let y = Tensor::cat(vec![bends / half6, duration], 1);
-        let figures = dig_figures(cfg, *kind, queries.clone(), y);
+        let queries = match &played_queries {
+            Some(q) => pick.clone().matmul(q.clone()),
+            None => queries.clone(),
+        };
+        let figures = dig_figures(cfg, *kind, queries, y);
         let n = pick.dims()[0] as f64;
         physics = physics + motion_penalty(&figures, s.margin) * (n / batch.digs);
     }
@@ -421,14 +431,15 @@ fn terms(net: &TaskNet, batch: &Batch, cfg: &infer::Config, s: &TaskTrainSetting
 }
 
 /// Profile and fill terms of the plans `u` (box coordinates) played on
-/// their designs; `digs` says which digs each plan has.
+/// their designs, and the digs' queries (`[B·6, 7]`); `digs` says which
+/// digs each plan has.
 fn carved_terms(
     cfg: &infer::Config,
     s: &TaskTrainSettings,
     designs: &Designs,
     u: Tensor<2>,
     digs: Tensor<2>,
-) -> (Tensor<1>, Tensor<1>) {
+) -> (Tensor<1>, Tensor<1>, Tensor<2>) {
     let played = play(cfg, designs, u, digs.clone());
     let profile = (played.under + played.over).mean();
     let [v_min, v_max] = cfg.objective.volume;
@@ -437,7 +448,7 @@ fn carved_terms(
     let short = (volume.clone().neg() + v_min) / gap + s.margin;
     let over = (volume - v_max) / gap + s.margin;
     let violation = (short.clamp_min(0.0) + over.clamp_min(0.0)) * digs.clone();
-    (profile, violation.sum() / digs.sum())
+    (profile, violation.sum() / digs.sum(), played.queries)
 }
 
 fn read(t: &Tensor<1>) -> f64 {
@@ -492,9 +503,17 @@ pub fn train_task_network(
         let mut sums = TaskTerms::default();
         for chunk in order.chunks(settings.batch_size) {
             let picked: Vec<&TaskSample> = chunk.iter().map(|&i| train[i]).collect();
-            let t = terms(&net, &batch(&picked, &device, &cfg, settings), &cfg, settings);
+            let t = terms(
+                &net,
+                &batch(&picked, &device, &cfg, settings),
+                &cfg,
+                settings,
+            );
             let (r, w) = (t.read(), chunk.len() as f64 / train.len() as f64);
-            if ![r.data, r.physics, r.profile, r.fill].iter().all(|v| v.is_finite()) {
+            if ![r.data, r.physics, r.profile, r.fill]
+                .iter()
+                .all(|v| v.is_finite())
+            {
                 return Err(TrainError::NonFiniteLoss {
                     epoch: epoch + 1,
                     batch: 0,

@@ -118,9 +118,14 @@ pub fn plot(path: &Path, runs: &[SeedRun]) -> Result<(), TrainError> {
             .flat_map(|r| r.log.iter().flat_map(|l| [pick(l, false), pick(l, true)]))
             .collect();
         let epochs = runs.iter().map(|r| r.log.len()).max().unwrap_or(2).max(2) as f64;
-        let mut chart =
-            loss_panel(panel, ["data", "physics", "profile", "fill"][k], &all, FLOOR, epochs)
-                .map_err(e)?;
+        let mut chart = loss_panel(
+            panel,
+            ["data", "physics", "profile", "fill"][k],
+            &all,
+            FLOOR,
+            epochs,
+        )
+        .map_err(e)?;
         for (i, r) in runs.iter().enumerate() {
             let c = colours[i % colours.len()];
             for val in [false, true] {
