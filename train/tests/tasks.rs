@@ -155,3 +155,53 @@ fn smoothness_tells_a_function_of_the_task_from_noise() {
     assert!(noisy.mean > 1.5 && noisy.mean < 2.5, "{noisy:?}");
     assert!(smoothness(&synthetic(2, |t| t, |_| 0.0)).is_none());
 }
+
+/// `train_tasks` keeps a seed an earlier run of the same job finished: the
+/// rerun trains nothing and writes the same report.
+#[test]
+fn train_tasks_resumes_from_finished_seeds() {
+    let dir = std::env::temp_dir().join(format!("train_tasks_resume_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let settings = dir.join("settings.json");
+    std::fs::write(&settings, serde_json::to_string(&small()).unwrap()).unwrap();
+    let run = || {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_train_tasks"))
+            .args(["--seeds", "1,2", "--no-progress", "--library"])
+            .arg(shipped_library())
+            .arg("--settings")
+            .arg(&settings)
+            .arg("--out")
+            .arg(dir.join("out"))
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    let first = run();
+    assert!(!first.contains("earlier run"), "{first}");
+    let report = std::fs::read_to_string(dir.join("out/report.json")).unwrap();
+    // Seed 2 lost its network: it alone trains again.
+    std::fs::remove_file(dir.join("out/seed_2.json")).unwrap();
+    let second = run();
+    assert!(
+        second.contains("seed 1: kept from an earlier run"),
+        "{second}"
+    );
+    assert!(!second.contains("seed 2: kept"), "{second}");
+    // Training repeats bit for bit but for its wall time.
+    let strip = |t: &str| {
+        let mut v: serde_json::Value = serde_json::from_str(t).unwrap();
+        for r in v["runs"].as_array_mut().unwrap() {
+            r["seconds"] = 0.into();
+        }
+        v
+    };
+    let again = std::fs::read_to_string(dir.join("out/report.json")).unwrap();
+    assert_eq!(strip(&report), strip(&again));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

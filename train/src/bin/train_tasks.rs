@@ -6,9 +6,9 @@ use clap::Parser;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use train::config::RuntimeConfig;
-use train::tasks::report::{SeedRun, TaskTrainReport, plot};
+use train::tasks::report::{SeedRecord, SeedRun, TaskTrainReport, plot};
 use train::tasks::smoothness::smoothness;
-use train::tasks::{TaskTrainSettings, load_library, train_task_network};
+use train::tasks::{TaskTrainSettings, is_validation, load_library, train_task_network};
 
 #[derive(Parser, Debug)]
 #[command(about = "Train the task network on a plan library (one network per seed)")]
@@ -67,14 +67,57 @@ fn run(cli: &Cli) -> Result<(), String> {
         threads: 1,
         checkpoint_every: usize::MAX,
     };
+    let library = cli.library.display().to_string();
+    let n_val = samples.iter().filter(|s| is_validation(s)).count();
+    let n_train = samples.len() - n_val;
     let mut runs = Vec::new();
-    let (mut n_train, mut n_val) = (0, 0);
     for &seed in &cli.seeds {
-        let outcome = train_task_network(&samples, &settings, seed, &runtime, !cli.no_progress)
-            .map_err(|e| e.to_string())?;
         let file = cli.out.join(format!("seed_{seed}.json"));
-        write(&file, &outcome.net.export(seed).to_json())?;
-        let best = outcome.log[outcome.best_epoch - 1];
+        let record_file = cli.out.join(format!("seed_{seed}.run.json"));
+        // A seed finished by an earlier run of the same job is kept.
+        let earlier = std::fs::read_to_string(&record_file)
+            .ok()
+            .and_then(|t| serde_json::from_str::<SeedRecord>(&t).ok())
+            .filter(|r| {
+                r.library == library
+                    && r.settings == settings
+                    && (r.train_tasks, r.validation_tasks) == (n_train, n_val)
+                    && file.exists()
+            });
+        let run = match earlier {
+            Some(r) => {
+                eprintln!(
+                    "seed {seed}: kept from an earlier run ({})",
+                    record_file.display()
+                );
+                r.run
+            }
+            None => {
+                let outcome =
+                    train_task_network(&samples, &settings, seed, &runtime, !cli.no_progress)
+                        .map_err(|e| e.to_string())?;
+                write(&file, &outcome.net.export(seed).to_json())?;
+                let run = SeedRun {
+                    seed,
+                    seconds: outcome.seconds,
+                    best: outcome.log[outcome.best_epoch - 1],
+                    log: outcome.log,
+                };
+                let record = SeedRecord {
+                    library: library.clone(),
+                    settings: settings.clone(),
+                    train_tasks: n_train,
+                    validation_tasks: n_val,
+                    run: run.clone(),
+                };
+                write(
+                    &record_file,
+                    &serde_json::to_string(&record).map_err(|e| e.to_string())?,
+                )?;
+                run
+            }
+        };
+        let best = &run.best;
         eprintln!(
             "seed {seed}: epoch {} kept, validation data {:.4}, physics {:.4}, profile {:.4}, fill {:.4}, {:.0} s → {}",
             best.epoch,
@@ -82,19 +125,13 @@ fn run(cli: &Cli) -> Result<(), String> {
             best.validation.physics,
             best.validation.profile,
             best.validation.fill,
-            outcome.seconds,
+            run.seconds,
             file.display()
         );
-        (n_train, n_val) = (outcome.train_tasks, outcome.validation_tasks);
-        runs.push(SeedRun {
-            seed,
-            seconds: outcome.seconds,
-            best,
-            log: outcome.log,
-        });
+        runs.push(run);
     }
     let report = TaskTrainReport {
-        library: cli.library.display().to_string(),
+        library,
         settings,
         train_tasks: n_train,
         validation_tasks: n_val,
@@ -112,8 +149,13 @@ fn run(cli: &Cli) -> Result<(), String> {
     Ok(())
 }
 
+/// Whole-file write: the text goes to a temporary file renamed over
+/// `path`, so an interrupted run never leaves half a file.
 fn write(path: &Path, text: &str) -> Result<(), String> {
-    std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))
+    let tmp = path.with_extension("part");
+    std::fs::write(&tmp, text)
+        .and_then(|()| std::fs::rename(&tmp, path))
+        .map_err(|e| format!("{}: {e}", path.display()))
 }
 
 fn main() -> ExitCode {

@@ -19,6 +19,18 @@ pub struct SeedRun {
     pub log: Vec<TaskEpoch>,
 }
 
+/// What a finished seed leaves beside its network (`seed_<s>.run.json`),
+/// so that a rerun on the same library with the same settings takes it
+/// instead of training again (a seed trains the same network every time).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct SeedRecord {
+    pub library: String,
+    pub settings: TaskTrainSettings,
+    pub train_tasks: usize,
+    pub validation_tasks: usize,
+    pub run: SeedRun,
+}
+
 /// Every seed's run on one library.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct TaskTrainReport {
