@@ -165,7 +165,7 @@ impl Default for TaskTrainSettings {
             physics: 0.1,
             margin: 0.02,
             time_samples: 33,
-            profile: 1.0,
+            profile: 20.0,
             profile_dx: 0.01,
             regulariser: 1e-6,
         }
