@@ -102,13 +102,13 @@ fn plans(planner: &Planner, moved: usize) -> Vec<Played> {
     out
 }
 
+fn planner() -> Planner {
+    Planner::new(&infer::Config::default(), &Default::default()).unwrap()
+}
+
 #[test]
 fn a_plan_played_in_tensors_digs_what_infer_digs() {
-    let planner = Planner::new(
-        &infer::Config::default(),
-        &infer::PlannerSettings::default(),
-    )
-    .unwrap();
+    let planner = planner();
     let cfg = planner.config();
     let device = common::device(true);
     let plans = plans(&planner, 3);
@@ -191,11 +191,7 @@ fn batch(plans: &[Played], device: &Device) -> (Vec<f64>, Tensor<2>, Designs) {
 /// segment that cuts it).
 #[test]
 fn the_played_profile_has_the_gradient_of_finite_differences() {
-    let planner = Planner::new(
-        &infer::Config::default(),
-        &infer::PlannerSettings::default(),
-    )
-    .unwrap();
+    let planner = planner();
     let cfg = planner.config();
     let base = common::device(true);
     let plans = plans(&planner, 0);
