@@ -378,6 +378,19 @@ fn read_json<T: serde::de::DeserializeOwned>(path: &std::path::Path) -> Result<T
 }
 
 /// `eval learned`: see [`Command::Learned`].
+
+/// The training seed of a task network file `seed_<s>.json` (what
+/// `train_tasks` writes); `None` for any other file, such as its
+/// `seed_<s>.run.json` resume records.
+fn network_seed(path: &std::path::Path) -> Option<u64> {
+    let name = path.file_name()?.to_str()?;
+    let digits = name.strip_prefix("seed_")?.strip_suffix(".json")?;
+    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    digits.parse().ok()
+}
+
 fn learned(
     networks: &std::path::Path,
     compared: &eval::learned::Compared,
@@ -401,17 +414,13 @@ fn learned(
         tasks.push(t);
     }
     let mut files = Vec::new();
-    let mut paths: Vec<PathBuf> = std::fs::read_dir(networks)
+    let mut paths: Vec<(u64, PathBuf)> = std::fs::read_dir(networks)
         .map_err(|e| EvalError::BadArgument(format!("{}: {e}", networks.display())))?
         .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| {
-            p.file_name()
-                .and_then(|n| n.to_str())
-                .is_some_and(|n| n.starts_with("seed_") && n.ends_with(".json"))
-        })
+        .filter_map(|p| Some((network_seed(&p)?, p)))
         .collect();
     paths.sort();
-    for p in paths {
+    for (_, p) in paths {
         let text = std::fs::read_to_string(&p)
             .map_err(|e| EvalError::BadArgument(format!("{}: {e}", p.display())))?;
         files.push(
@@ -443,4 +452,24 @@ fn learned(
     report.write(out)?;
     print!("{}", report.markdown());
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::network_seed;
+    use std::path::Path;
+
+    #[test]
+    fn only_seed_files_are_task_networks() {
+        assert_eq!(network_seed(Path::new("a/seed_12.json")), Some(12));
+        for other in [
+            "seed_1.run.json",
+            "seed_.json",
+            "seed_1.json.part",
+            "report.json",
+            "seed_x.json",
+        ] {
+            assert_eq!(network_seed(Path::new(other)), None, "{other}");
+        }
+    }
 }

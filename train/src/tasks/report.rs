@@ -95,7 +95,7 @@ impl TaskTrainReport {
         }
         let _ = writeln!(
             out,
-            "\nData: mean over digs of the squared error of the 10 normalised box coordinates. Physics: mean over digs of the motion checks' penalty with the margin (teacher-forced queries). Profile: the predicted plan carved on the surface, under- plus over-dug area as a fraction of the design's, mean over tasks. Fill: each predicted dig's carved volume beyond V_min or V_max, normalised by their gap, with the margin, mean over digs. Each seed keeps the network of the epoch with the least validation total (data + weights × the other terms). Loss curves: `loss.svg`. Quality on tasks: `eval learned`."
+            "\nData: mean over digs of the squared error of the 10 normalised box coordinates. Physics: mean over digs of the motion checks' penalty with the margin, each dig's query from its predicted poses on the surface the predicted plan leaves (from the library's dig when the profile weight is 0). Profile: the predicted plan carved on the surface, under- plus over-dug area as a fraction of the design's, mean over tasks. Fill: each predicted dig's carved volume beyond V_min or V_max, normalised by their gap, with the margin, mean over digs. Each seed keeps the network of the epoch with the least validation total (data + weights × the other terms). Loss curves: `loss.svg`. Quality on tasks: `eval learned`."
         );
         out
     }
