@@ -377,8 +377,6 @@ fn read_json<T: serde::de::DeserializeOwned>(path: &std::path::Path) -> Result<T
     serde_json::from_str(&text).map_err(|e| bad(e.to_string()))
 }
 
-/// `eval learned`: see [`Command::Learned`].
-
 /// The training seed of a task network file `seed_<s>.json` (what
 /// `train_tasks` writes); `None` for any other file, such as its
 /// `seed_<s>.run.json` resume records.
@@ -391,6 +389,7 @@ fn network_seed(path: &std::path::Path) -> Option<u64> {
     digits.parse().ok()
 }
 
+/// `eval learned`: see [`Command::Learned`].
 fn learned(
     networks: &std::path::Path,
     compared: &eval::learned::Compared,
