@@ -181,10 +181,7 @@ impl DigProblem {
     /// Y = [a16, a26, a36, T] from the optimiser's variables [b1, b2, b3, T].
     pub fn to_params(x: &[f64]) -> DigParams {
         let half6 = (x[3] / 2.0).powi(6);
-        DigParams {
-            a6: [x[0] / half6, x[1] / half6, x[2] / half6],
-            duration: x[3],
-        }
+        DigParams::new([x[0] / half6, x[1] / half6, x[2] / half6], x[3])
     }
 
     /// The optimiser's variables for Y.

@@ -150,10 +150,7 @@ fn failed_evaluation_is_infeasible_not_a_panic() {
     assert!(f.iter().all(|x| x.is_infinite()));
     assert_eq!(p.weighted(&[0.0, 0.0, 0.0, -1.0]).1, EVAL_ERROR_VIOLATION);
     // Scaling round-trips.
-    let y = infer::DigParams {
-        a6: [4.5e-5, 4.9e-5, 1e-7],
-        duration: 7.0,
-    };
+    let y = infer::DigParams::new([4.5e-5, 4.9e-5, 1e-7], 7.0);
     let back = DigProblem::to_params(&DigProblem::from_params(&y)).to_array();
     for (a, b) in back.iter().zip(y.to_array()) {
         assert!((a - b).abs() <= 1e-15 * b.abs(), "{back:?} vs {y:?}");

@@ -7,13 +7,17 @@
 //! **Joint angle, speed and acceleration** are polynomials in s = t/T
 //! (spec §4), so their extrema over [0, T] are exact: at the ends or where
 //! the next derivative vanishes. The family factors those derivatives;
-//! with c = a_i6 T⁶, A = 30Δ_i − 3c and B = 6c,
+//! with c = a_i6 T⁶, A = 30Δ_i − 3c and B = 6c, and without the skew,
 //!
 //! ```text
 //! dθ/ds   = s² (1 − s)² (A + B s)                        angle: A + B s = 0
 //! d²θ/ds² = s (1 − s) (2A + (3B − 4A) s − 5B s²)          speed: the quadratic's roots
 //! d³θ/ds³ = 2A + 6(B − 2A) s + 12(A − 2B) s² + 20B s³      acceleration: the cubic's roots
 //! ```
+//!
+//! The skew k = a_i7 T⁷ ([`crate::trajectory`]) adds k (7s² − 7s + 1.5)
+//! to the angle's factor and k (−42s³ + 63s² − 27s + 3) to the speed's,
+//! and raises the acceleration's by one degree.
 //!
 //! The roots come from [`crate::poly`] (bracketed, so none in [0, 1] is
 //! lost), and the roots of each factor's own derivative are tried too, so
@@ -138,13 +142,21 @@ impl JointExtrema {
             let speed = angle.derivative();
             let accel = speed.derivative();
             let jerk = accel.derivative();
-            // A = 30Δ − 3c = 3 (10Δ − c), three times the s³ coefficient; B = 6c.
-            let (a, b) = (3.0 * c[3], 6.0 * c[6]);
-            let linear = Poly::from_array([a, b]);
-            let quadratic = Poly::from_array([2.0 * a, 3.0 * b - 4.0 * a, -5.0 * b]);
-            out.angle[i] = span(&angle, 1.0, big_t, &[linear.roots_in(0.0, 1.0)]);
+            // A = 30Δ − 3c = 3 (10Δ − c + k/2) − 1.5k from the s³ coefficient,
+            // B = 6c from the s⁶ one (c − 3.5k); k = 0 outside the extension.
+            let k = traj.unit_shape(i)[1];
+            let (a, b) = (3.0 * c[3] - 1.5 * k, 6.0 * c[6] + 21.0 * k);
+            let angle_factor = Poly::from_array([a + 1.5 * k, b - 7.0 * k, 7.0 * k]);
+            let speed_factor = Poly::from_array([
+                2.0 * a + 3.0 * k,
+                3.0 * b - 4.0 * a - 27.0 * k,
+                -5.0 * b + 63.0 * k,
+                -42.0 * k,
+            ]);
+            let candidates = angle_factor.roots_and_critical(0.0, 1.0);
+            out.angle[i] = span(&angle, 1.0, big_t, &candidates);
             let scale = [1.0 / big_t, 1.0 / (big_t * big_t)];
-            let candidates = quadratic.roots_and_critical(0.0, 1.0);
+            let candidates = speed_factor.roots_and_critical(0.0, 1.0);
             out.speed[i] = span(&speed, scale[0], big_t, &candidates);
             let candidates = jerk.roots_and_critical(0.0, 1.0);
             out.accel[i] = span(&accel, scale[1], big_t, &candidates);

@@ -15,7 +15,7 @@
 //! ([`Poly::roots_and_critical`]).
 
 /// Highest degree a [`Poly`] holds.
-pub const MAX_DEGREE: usize = 6;
+pub const MAX_DEGREE: usize = 7;
 
 /// Most steps per root: far more than a bracket of doubles needs.
 const MAX_STEPS: usize = 200;

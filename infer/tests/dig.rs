@@ -71,7 +71,7 @@ fn dig_angle_of_straight_down_and_horizontal_starts() {
         ([1.0, 0.0], 180.0),
     ] {
         let a6 = a6_for_direction(&cfg, &task, 7.0, dir);
-        let tr = Trajectory::new(&task.start, &task.end, &DigParams { a6, duration: 7.0 }).unwrap();
+        let tr = Trajectory::new(&task.start, &task.end, &DigParams::new(a6, 7.0)).unwrap();
         let got = to_deg(infer::dig::dig_angle(&cfg, &task, &tr));
         assert!(
             (got - expected).abs() < 1e-6,
@@ -274,14 +274,11 @@ fn evaluation_numbers_are_pinned_to_the_bit() {
         let Ok(q) = ranges.query_at(&cfg, kind, u) else {
             continue;
         };
-        let y = DigParams {
-            a6: [
+        let y = DigParams::new([
                 rng.range(-2e-4, 2e-4),
                 rng.range(-2e-4, 2e-4),
                 rng.range(-2e-5, 2e-5),
-            ],
-            duration: rng.range(3.0, 10.0),
-        };
+            ], rng.range(3.0, 10.0));
         let ground = Ground {
             terrain: &terrain,
             base_x: rng.range(-0.1, 0.1),

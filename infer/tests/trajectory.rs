@@ -5,10 +5,7 @@ use infer::{DigParams, Trajectory};
 fn random_traj(rng: &mut Lcg) -> ([f64; 3], [f64; 3], Trajectory) {
     let s: [f64; 3] = core::array::from_fn(|_| rng.range(-2.0, 2.0));
     let e: [f64; 3] = core::array::from_fn(|_| rng.range(-2.0, 2.0));
-    let p = DigParams {
-        a6: core::array::from_fn(|_| rng.range(-1e-3, 1e-3)),
-        duration: rng.range(3.0, 12.0),
-    };
+    let p = DigParams::new(core::array::from_fn(|_| rng.range(-1e-3, 1e-3)), rng.range(3.0, 12.0));
     (s, e, Trajectory::new(&s, &e, &p).unwrap())
 }
 
@@ -65,16 +62,13 @@ fn derivatives_and_coefficients_are_consistent() {
 fn bad_parameters_are_errors() {
     let z = [0.0; 3];
     for t in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-        assert!(Trajectory::new(&z, &z, &DigParams { a6: z, duration: t }).is_err());
+        assert!(Trajectory::new(&z, &z, &DigParams::new(z, t)).is_err());
     }
     assert!(
         Trajectory::new(
             &z,
             &[f64::NAN, 0.0, 0.0],
-            &DigParams {
-                a6: z,
-                duration: 7.0
-            }
+            &DigParams::new(z, 7.0)
         )
         .is_err()
     );
@@ -82,10 +76,7 @@ fn bad_parameters_are_errors() {
         Trajectory::new(
             &z,
             &z,
-            &DigParams {
-                a6: [f64::NEG_INFINITY, 0.0, 0.0],
-                duration: 7.0
-            }
+            &DigParams::new([f64::NEG_INFINITY, 0.0, 0.0], 7.0)
         )
         .is_err()
     );

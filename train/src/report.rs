@@ -69,10 +69,7 @@ pub fn evaluate_test(
             mae[j] += (y[j] - s.y[j]).abs() / y_std[j] / test.len() as f64;
         }
         obj_opt += s.objective;
-        let params = DigParams {
-            a6: [y[0], y[1], y[2]],
-            duration: y[3],
-        };
+        let params = DigParams::new([y[0], y[1], y[2]], y[3]);
         let report = DigProblem::new(&cfg, &s.query, &bounds, DigObjective::Weighted)
             .and_then(|mut p| p.report(&params));
         match report {

@@ -133,10 +133,7 @@ fn run(args: Args) -> Result<(), String> {
         end: joints(&cfg, &args.end, &args.end_pose)?,
         kind,
     };
-    let params = DigParams {
-        a6: [args.a6[0], args.a6[1], args.a6[2]],
-        duration: args.duration,
-    };
+    let params = DigParams::new([args.a6[0], args.a6[1], args.a6[2]], args.duration);
     let surface = args.surface.unwrap_or(cfg.ground_level);
     let reach = infer::kinematics::max_reach(&cfg.machine);
     let terrain = Terrain::flat(-reach - 0.1, reach + 0.1, cfg.terrain_dx, surface)

@@ -273,13 +273,15 @@ fn assess_walk(
     }))
 }
 
-/// `params` with its time stretched by `k`: T' = k T, a_i6' = a_i6 / k⁶
-/// (the same path in joint space, speeds / k, accelerations / k²).
+/// `params` with its time stretched by `k`: T' = k T, a_i6' = a_i6 / k⁶,
+/// a_i7' = a_i7 / k⁷ (the same path in joint space, speeds / k,
+/// accelerations / k²).
 pub fn rescale(params: &DigParams, k: f64) -> DigParams {
     let k6 = k * k * k * k * k * k;
     DigParams {
         a6: params.a6.map(|a| a / k6),
         duration: params.duration * k,
+        a7: params.a7.map(|a| a / (k6 * k)),
     }
 }
 

@@ -38,10 +38,7 @@ pub fn bend_scale(duration: f64) -> f64 {
 /// Y from the bends b_i = a_i6 (T/2)⁶ and T.
 pub fn params_from_bends(bends: [f64; 3], duration: f64) -> DigParams {
     let half6 = bend_scale(duration);
-    DigParams {
-        a6: bends.map(|b| b / half6),
-        duration,
-    }
+    DigParams::new(bends.map(|b| b / half6), duration)
 }
 
 /// The bends b_i = a_i6 (T/2)⁶ of Y.

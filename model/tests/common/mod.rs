@@ -78,7 +78,7 @@ pub fn random_digs(cfg: &Config, kind: DigType, count: usize, seed: u64) -> Vec<
         let t = rng.range(5.0, 10.0);
         let scale = 1e-4 * (7.0 / t).powi(6);
         let a6: [f64; 3] = core::array::from_fn(|_| rng.range(-scale, scale));
-        let params = DigParams { a6, duration: t };
+        let params = DigParams::new(a6, t);
         if let Some(d) = evaluate(cfg, &query, &params) {
             out.push(d);
         }
@@ -102,10 +102,7 @@ pub fn optimiser_like_digs(cfg: &Config, count: usize, seed: u64) -> Vec<Dig> {
             continue;
         };
         let a6: [f64; 3] = core::array::from_fn(|i| p_ref.a6[i] * rng.range(0.75, 1.25));
-        let params = DigParams {
-            a6,
-            duration: p_ref.duration + rng.range(-0.7, 0.7),
-        };
+        let params = DigParams::new(a6, p_ref.duration + rng.range(-0.7, 0.7));
         if let Some(d) = evaluate(cfg, &query, &params) {
             out.push(d);
         }
