@@ -55,7 +55,14 @@ impl Task<'_> {
                 terrain: &terrain,
                 base_x: 0.0,
             };
-            match assess(self.cfg, &query.task(), &params, ground, &mut carve, Some(&guard)) {
+            match assess(
+                self.cfg,
+                &query.task(),
+                &params,
+                ground,
+                &mut carve,
+                Some(&guard),
+            ) {
                 Ok(a) => {
                     if !a.feasible {
                         violation += a.violation.max(1e-12);
@@ -79,7 +86,15 @@ fn better(a: (f64, f64), b: (f64, f64)) -> bool {
 }
 
 /// Compass search from `x0`, variables `free` only, within `evals`.
-fn polish(task: &mut Task, x0: &[f64], lo: &[f64], hi: &[f64], step0: &[f64], free: &[bool], evals: usize) -> (Vec<f64>, (f64, f64)) {
+fn polish(
+    task: &mut Task,
+    x0: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+    step0: &[f64],
+    free: &[bool],
+    evals: usize,
+) -> (Vec<f64>, (f64, f64)) {
     let mut x = x0.to_vec();
     let mut best = task.score(&x);
     let mut step = step0.to_vec();
@@ -130,7 +145,9 @@ fn main() -> Result<(), String> {
     let plan: Plan = serde_json::from_str(&text).map_err(|e| format!("{path}: {e}"))?;
     let cfg = Config::default();
     let planner = Planner::new(&cfg, &PlannerSettings::default()).map_err(|e| e.to_string())?;
-    let mut terrain = planner.initial_terrain(&plan.design).map_err(|e| e.to_string())?;
+    let mut terrain = planner
+        .initial_terrain(&plan.design)
+        .map_err(|e| e.to_string())?;
     let mut carve = CarveBuffer::default();
     let (blo, bhi) = dig_box(&cfg, &plan.design);
     let bstep = initial_step(&blo, &bhi);
@@ -149,7 +166,8 @@ fn main() -> Result<(), String> {
             terrain: &terrain,
             base_x: 0.0,
         };
-        assess(&cfg, &d.query.task(), &d.params, ground, &mut carve, None).map_err(|e| e.to_string())?;
+        assess(&cfg, &d.query.task(), &d.params, ground, &mut carve, None)
+            .map_err(|e| e.to_string())?;
         terrain.commit(&carve);
     }
     let mut task = Task {
@@ -159,17 +177,32 @@ fn main() -> Result<(), String> {
         evals: 0,
     };
     let start = task.score(&x);
-    println!("recorded plan: violation {:.3e}, under + over {:.2} %", start.0, start.1 * 100.0);
+    println!(
+        "recorded plan: violation {:.3e}, under + over {:.2} %",
+        start.0,
+        start.1 * 100.0
+    );
     for skew in [false, true] {
         let free: Vec<bool> = (0..x.len()).map(|i| skew || i % PER < DIG_VARS).collect();
         let (best, s) = polish(&mut task, &x, &lo, &hi, &step, &free, evals);
         let skews: Vec<String> = best
             .chunks(PER)
-            .map(|v| format!("[{:.3}, {:.3}, {:.3}]", v[DIG_VARS], v[DIG_VARS + 1], v[DIG_VARS + 2]))
+            .map(|v| {
+                format!(
+                    "[{:.3}, {:.3}, {:.3}]",
+                    v[DIG_VARS],
+                    v[DIG_VARS + 1],
+                    v[DIG_VARS + 2]
+                )
+            })
             .collect();
         println!(
             "{}: violation {:.3e}, under + over {:.2} % after {} evaluations; skews (rad) {}",
-            if skew { "with the skew" } else { "spec family " },
+            if skew {
+                "with the skew"
+            } else {
+                "spec family "
+            },
             s.0,
             s.1 * 100.0,
             task.evals,

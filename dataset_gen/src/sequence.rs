@@ -22,7 +22,8 @@ use crate::runner::{Budget, Runner};
 use infer::plan::{DigRecord, Plan};
 use infer::repair::{Assessment, DesignGuard};
 use infer::sequence::{
-    DIG_VARS, DigVars, Refit, SequenceDig, UNEVALUABLE, dig_box, initial_step, play_dig_to_beat,
+    DIG_VARS, Refit, SKEWED_VARS, SequenceDig, UNEVALUABLE, dig_box, initial_step,
+    play_dig_to_beat, skewed_box,
 };
 use infer::{
     Config, DesignProfile, DigQuery, Outcome, PlannedDig, Planner, ProfileMetrics, Reference,
@@ -30,10 +31,6 @@ use infer::{
 };
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-
-/// Variables per dig ([`infer::sequence::DIG_VARS`]): type, start x, chord,
-/// end lift, start ζ, end ζ, b1–b3, T.
-const PER_DIG: usize = DIG_VARS;
 
 /// The optimiser of a whole-task search (README: the comparison at equal
 /// evaluations that chose the default).
@@ -102,6 +99,9 @@ pub struct SequenceSettings {
     /// Weight of the digs' mean objective next to the profile error (0:
     /// the profile alone decides).
     pub weight_objective: f64,
+    /// Search the skews too (the extension of `infer::trajectory`): each
+    /// dig then has [`SKEWED_VARS`] variables, not [`DIG_VARS`].
+    pub skew: bool,
 }
 
 impl Default for SequenceSettings {
@@ -114,11 +114,18 @@ impl Default for SequenceSettings {
             restarts: 8,
             polish: 20_000,
             weight_objective: 0.0,
+            skew: false,
         }
     }
 }
 
 impl SequenceSettings {
+    /// Variables per dig: type, start x, chord, end lift, start ζ, end ζ,
+    /// b1–b3, T, and with [`Self::skew`] k1–k3.
+    pub fn per_dig(&self) -> usize {
+        if self.skew { SKEWED_VARS } else { DIG_VARS }
+    }
+
     /// Sequences evaluated per task (for progress bars).
     pub fn evaluations(&self) -> u64 {
         (self.restarts * self.population * (self.iterations + 1) + self.polish) as u64
@@ -132,6 +139,8 @@ struct SequenceProblem<'a> {
     guard: DesignGuard,
     start: &'a Terrain,
     digs: usize,
+    /// Variables per dig ([`SequenceSettings::per_dig`]).
+    per_dig: usize,
     lo: Vec<f64>,
     hi: Vec<f64>,
     weight_objective: f64,
@@ -146,19 +155,20 @@ impl<'a> SequenceProblem<'a> {
         design: &DesignProfile,
         start: &'a Terrain,
         digs: usize,
-        weight_objective: f64,
+        settings: &SequenceSettings,
         bar: Option<&'a indicatif::ProgressBar>,
     ) -> Self {
-        let (lo, hi) = bounds(planner.config(), design, digs);
+        let (lo, hi) = bounds(planner.config(), design, digs, settings.skew);
         SequenceProblem {
             cfg: *planner.config(),
             design: *design,
             guard: planner.guard(design),
             start,
             digs,
+            per_dig: settings.per_dig(),
             lo,
             hi,
-            weight_objective,
+            weight_objective: settings.weight_objective,
             terrain: start.clone(),
             carve: Default::default(),
             bar,
@@ -200,8 +210,7 @@ impl<'a> SequenceProblem<'a> {
         self.terrain.clone_from(self.start);
         let reference = beat.filter(|&v| v == 0.0).map(|_| Reference::ANY_FEASIBLE);
         let (mut violation, mut objective) = (0.0, 0.0);
-        for v in x.chunks_exact(PER_DIG) {
-            let v: &DigVars = v.try_into().expect("chunks of PER_DIG");
+        for v in x.chunks_exact(self.per_dig) {
             let terrain = &self.terrain;
             match play_dig_to_beat(
                 &self.cfg,
@@ -244,7 +253,7 @@ impl SequenceProblem<'_> {
 
 impl Problem for SequenceProblem<'_> {
     fn dim(&self) -> usize {
-        self.digs * PER_DIG
+        self.digs * self.per_dig
     }
     fn bounds(&self) -> (&[f64], &[f64]) {
         (&self.lo, &self.hi)
@@ -272,9 +281,9 @@ struct Polish<'p, 'a> {
     spent: usize,
 }
 
-impl Refit for Polish<'_, '_> {
-    fn best(&self) -> &[DigVars] {
-        self.best.x.as_chunks::<PER_DIG>().0
+impl<const N: usize> Refit<N> for Polish<'_, '_> {
+    fn best(&self) -> &[[f64; N]] {
+        self.best.x.as_chunks::<N>().0
     }
 
     fn best_score(&self) -> (f64, f64) {
@@ -291,7 +300,7 @@ impl Refit for Polish<'_, '_> {
 
     fn play(&mut self, j: usize, i: usize, value: f64) -> Option<(f64, f64)> {
         let mut x = self.best.x.clone();
-        x[j * PER_DIG + i] = value;
+        x[j * self.p.per_dig + i] = value;
         let mut f = [0.0];
         self.spent += 1;
         let violation = self.p.evaluate_to_beat(&x, &mut f, &self.best)?;
@@ -318,15 +327,31 @@ const POLISH_MIN_STEP: f64 = 1e-3;
 /// most `budget` sequence evaluations: the best point and the
 /// evaluations spent.
 fn compass(p: &mut SequenceProblem<'_>, start: Individual, budget: usize) -> (Individual, usize) {
-    let (lo, hi) = dig_box(&p.cfg, &p.design);
-    let mut steps = vec![initial_step(&lo, &hi); p.digs];
+    if p.per_dig == SKEWED_VARS {
+        let (lo, hi) = skewed_box(&p.cfg, &p.design);
+        compass_in(p, start, budget, &lo, &hi)
+    } else {
+        let (lo, hi) = dig_box(&p.cfg, &p.design);
+        compass_in(p, start, budget, &lo, &hi)
+    }
+}
+
+/// [`compass`] with `N` variables per dig in `[lo, hi]`.
+fn compass_in<const N: usize>(
+    p: &mut SequenceProblem<'_>,
+    start: Individual,
+    budget: usize,
+    lo: &[f64; N],
+    hi: &[f64; N],
+) -> (Individual, usize) {
+    let mut steps = vec![initial_step(lo, hi); p.digs];
     let mut r = Polish {
         p,
         best: start,
         candidate: None,
         spent: 0,
     };
-    infer::sequence::compass(&mut r, &lo, &hi, &mut steps, budget, POLISH_MIN_STEP);
+    infer::sequence::compass(&mut r, lo, hi, &mut steps, budget, POLISH_MIN_STEP);
     (r.best, r.spent)
 }
 
@@ -374,16 +399,17 @@ pub fn optimise_near(
         .digs_for(task)
         .map_err(|e| Error::BadArgument(e.to_string()))?;
     if init.is_empty()
-        || !init.len().is_multiple_of(PER_DIG)
+        || !init.len().is_multiple_of(settings.per_dig())
         || init.iter().any(|v| !v.is_finite())
         || !(radius > 0.0 && radius <= 1.0)
     {
         return Err(Error::BadSettings(format!(
-            "a warm start needs whole digs of {PER_DIG} finite variables (got {}) and a radius in (0, 1] (got {radius})",
+            "a warm start needs whole digs of {} finite variables (got {}) and a radius in (0, 1] (got {radius})",
+            settings.per_dig(),
             init.len()
         )));
     }
-    let digs = init.len() / PER_DIG;
+    let digs = init.len() / settings.per_dig();
     search(
         planner,
         task,
@@ -421,7 +447,7 @@ fn search(
     let design = DesignProfile::new(&cfg, task);
     let start = planner.initial_terrain(&design)?;
     let problem = |bar| {
-        let mut p = SequenceProblem::new(planner, &design, &start, digs, w, bar);
+        let mut p = SequenceProblem::new(planner, &design, &start, digs, settings, bar);
         if let Some((init, radius)) = near {
             p.narrow(init, radius);
         }
@@ -485,9 +511,14 @@ pub fn plan_value(plan: &Plan, weight_objective: f64) -> f64 {
 
 /// The variables' box for `digs` digs on `design` (each dig's is
 /// [`infer::sequence::dig_box`]).
-fn bounds(cfg: &Config, design: &DesignProfile, digs: usize) -> (Vec<f64>, Vec<f64>) {
-    let (lo, hi) = dig_box(cfg, design);
-    (lo.repeat(digs), hi.repeat(digs))
+fn bounds(cfg: &Config, design: &DesignProfile, digs: usize, skew: bool) -> (Vec<f64>, Vec<f64>) {
+    if skew {
+        let (lo, hi) = skewed_box(cfg, design);
+        (lo.repeat(digs), hi.repeat(digs))
+    } else {
+        let (lo, hi) = dig_box(cfg, design);
+        (lo.repeat(digs), hi.repeat(digs))
+    }
 }
 
 /// The plan the digs of `x` make, replayed on `p` from its start surface.
@@ -560,16 +591,17 @@ pub fn refit_task(
     planner
         .digs_for(task)
         .map_err(|e| Error::BadArgument(e.to_string()))?;
-    let digs = init.len() / PER_DIG;
+    let per_dig = settings.per_dig();
+    let digs = init.len() / per_dig;
     let w = settings.weight_objective;
     if digs == 0
-        || !init.len().is_multiple_of(PER_DIG)
+        || !init.len().is_multiple_of(per_dig)
         || init.iter().any(|v| !v.is_finite())
         || digs > infer::planner::MAX_DIGS
         || !(w >= 0.0 && w.is_finite())
     {
         return Err(Error::BadSettings(format!(
-            "a refit needs 1 to {} digs of {PER_DIG} finite variables (got {}) and a finite weight_objective ≥ 0",
+            "a refit needs 1 to {} digs of {per_dig} finite variables (got {}) and a finite weight_objective ≥ 0",
             infer::planner::MAX_DIGS,
             init.len()
         )));
@@ -577,7 +609,7 @@ pub fn refit_task(
     let cfg = *planner.config();
     let design = DesignProfile::new(&cfg, task);
     let start = planner.initial_terrain(&design)?;
-    let mut p = SequenceProblem::new(planner, &design, &start, digs, w, None);
+    let mut p = SequenceProblem::new(planner, &design, &start, digs, settings, None);
     // A start: a variable carried over outside this design's box starts on its edge.
     let x: Vec<f64> = init
         .iter()
@@ -615,7 +647,14 @@ mod tests {
         let task = TrenchTask::new_deg(0.6, 0.12, 60.0, 60.0);
         let design = DesignProfile::new(planner.config(), &task);
         let start = planner.initial_terrain(&design).unwrap();
-        let mut p = SequenceProblem::new(&planner, &design, &start, 3, 0.0, None);
+        let mut p = SequenceProblem::new(
+            &planner,
+            &design,
+            &start,
+            3,
+            &SequenceSettings::default(),
+            None,
+        );
         let mut rng = rng_from_seed(5);
         let (mut stopped, mut finished) = (0, 0);
         for i in 0..60 {

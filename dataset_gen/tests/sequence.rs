@@ -39,6 +39,22 @@ fn an_optimised_task_replays_under_the_exact_model() {
     assert!(plan.metrics.under_dug < 0.6, "{:?}", plan.metrics);
 }
 
+/// With the skews searched too, the plan's digs use them, its file holds
+/// them, and it replays under the exact model in continuous time.
+#[test]
+fn a_skewed_plan_replays_under_the_exact_model() {
+    let p = planner();
+    let settings = SequenceSettings {
+        skew: true,
+        ..small_budget()
+    };
+    let plan = optimise_task(&p, &small_task(), &settings, 3, None).unwrap();
+    assert!(plan.digs.iter().all(|d| d.dig.params.is_skewed()));
+    let text = serde_json::to_string(&plan).unwrap();
+    let back: infer::plan::Plan = serde_json::from_str(&text).unwrap();
+    assert_eq!(back.verify(&p).expect("every dig feasible"), plan.metrics);
+}
+
 #[test]
 fn the_same_seed_gives_the_same_plan_whatever_the_thread_count() {
     let p = planner();

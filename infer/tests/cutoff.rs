@@ -48,11 +48,14 @@ fn a_stopped_evaluation_is_always_a_worse_dig_and_a_finished_one_is_exact() {
             let Ok(q) = ranges.query_at(&cfg, kind, u) else {
                 continue;
             };
-            let y = DigParams::new([
+            let y = DigParams::new(
+                [
                     rng.range(-2e-4, 2e-4),
                     rng.range(-2e-4, 2e-4),
                     rng.range(-2e-5, 2e-5),
-                ], rng.range(4.0, 10.0));
+                ],
+                rng.range(4.0, 10.0),
+            );
             (q, y)
         } else {
             let y = DigParams::from_array(common::REFERENCE_Y.map(|v| v * rng.range(0.97, 1.03)));

@@ -274,11 +274,14 @@ fn evaluation_numbers_are_pinned_to_the_bit() {
         let Ok(q) = ranges.query_at(&cfg, kind, u) else {
             continue;
         };
-        let y = DigParams::new([
+        let y = DigParams::new(
+            [
                 rng.range(-2e-4, 2e-4),
                 rng.range(-2e-4, 2e-4),
                 rng.range(-2e-5, 2e-5),
-            ], rng.range(3.0, 10.0));
+            ],
+            rng.range(3.0, 10.0),
+        );
         let ground = Ground {
             terrain: &terrain,
             base_x: rng.range(-0.1, 0.1),

@@ -56,6 +56,10 @@ struct SequenceArgs {
     /// Weight of the digs' mean objective next to the profile error (default 0).
     #[arg(long)]
     weight_objective: Option<f64>,
+    /// Search each joint's skew a_i7 too, the project's extension of the
+    /// spec's dig family (infer/src/trajectory.rs); off by default.
+    #[arg(long)]
+    skew: bool,
 }
 
 impl SequenceArgs {
@@ -72,6 +76,7 @@ impl SequenceArgs {
             restarts: self.restarts.unwrap_or(d.restarts),
             polish: self.polish.unwrap_or(d.polish),
             weight_objective: self.weight_objective.unwrap_or(d.weight_objective),
+            skew: self.skew,
         })
     }
 }

@@ -1,15 +1,16 @@
 //! The compass search that refits a dig sequence, one variable at a time.
 
 use super::deb::better;
-use super::vars::{DIG_VARS, DigVars};
+use super::vars::DIG_VARS;
 
 /// A sequence being refitted: it holds the best sequence so far, plays
 /// candidates that differ from it in one variable, and counts the exact
 /// evaluations spent. How a candidate is played (from which dig on, when
-/// it stops early) is its own business.
-pub trait Refit {
+/// it stops early) is its own business. `N`: variables per dig (more than
+/// [`DIG_VARS`] with the skews, [`super::vars::SKEWED_VARS`]).
+pub trait Refit<const N: usize = DIG_VARS> {
     /// The best sequence so far.
-    fn best(&self) -> &[DigVars];
+    fn best(&self) -> &[[f64; N]];
     /// Its (violation, value), ranked by Deb's rules.
     fn best_score(&self) -> (f64, f64);
     /// Exact evaluations spent so far.
@@ -25,7 +26,7 @@ pub trait Refit {
 }
 
 /// The compass search's first steps: 5 % of each variable's range.
-pub fn initial_step(lo: &DigVars, hi: &DigVars) -> DigVars {
+pub fn initial_step<const N: usize>(lo: &[f64; N], hi: &[f64; N]) -> [f64; N] {
     core::array::from_fn(|i| 0.05 * (hi[i] - lo[i]))
 }
 
@@ -40,22 +41,23 @@ pub fn initial_step(lo: &DigVars, hi: &DigVars) -> DigVars {
 /// to its first size); when neither direction gains, the step halves.
 /// Stops once a move could take the evaluations spent past `limit`, or
 /// every step is below `min_step` × its variable's range; `steps` holds
-/// the steps reached.
-pub fn compass<R: Refit + ?Sized>(
+/// the steps reached. A variable whose range is empty never moves.
+pub fn compass<const N: usize, R: Refit<N> + ?Sized>(
     r: &mut R,
-    lo: &DigVars,
-    hi: &DigVars,
-    steps: &mut [DigVars],
+    lo: &[f64; N],
+    hi: &[f64; N],
+    steps: &mut [[f64; N]],
     limit: usize,
     min_step: f64,
 ) {
     let n = r.best().len();
     let first = initial_step(lo, hi);
-    let min_step: DigVars = core::array::from_fn(|i| min_step * (hi[i] - lo[i]));
+    let min_step: [f64; N] = core::array::from_fn(|i| min_step * (hi[i] - lo[i]));
+    let settled = |s: f64, m: f64| s.abs() < m || s == 0.0;
     loop {
         for j in (0..n).rev() {
-            for i in 0..DIG_VARS {
-                if steps[j][i].abs() < min_step[i] {
+            for i in 0..N {
+                if settled(steps[j][i], min_step[i]) {
                     continue;
                 }
                 let mut gained = false;
@@ -87,7 +89,7 @@ pub fn compass<R: Refit + ?Sized>(
         }
         if steps[..n]
             .iter()
-            .all(|d| d.iter().zip(&min_step).all(|(s, m)| s.abs() < *m))
+            .all(|d| d.iter().zip(&min_step).all(|(s, m)| settled(*s, *m)))
         {
             return;
         }

@@ -3,7 +3,8 @@
 //!
 //! A sequence of digs is searched as numbers, ten per dig ([`DigVars`]):
 //! type, start x, chord, end lift, start and end bucket attitude ζ, the
-//! three bends b_i = a_i6 (T/2)⁶ and T. The template planner
+//! three bends b_i = a_i6 (T/2)⁶ and T, and optionally three skews
+//! (the extension of [`crate::trajectory`]). The template planner
 //! ([`crate::template`]), sequence PSO and the plan library
 //! (`dataset_gen::sequence`, `dataset_gen::library`) all use this module:
 //!
@@ -27,6 +28,6 @@ pub use deb::{better, compare};
 pub use nearest::{MAX_NEIGHBOURS, features, nearest};
 pub use play::{UNEVALUABLE, play_dig, play_dig_to_beat, query_of};
 pub use vars::{
-    DIG_VARS, DigVars, SequenceDig, bend_scale, bends_of, decode, dig_box, encode,
-    params_from_bends,
+    DIG_VARS, DigVars, SKEW_PEAK, SKEW_RANGE, SKEWED_VARS, SequenceDig, bend_scale, bends_of,
+    decode, dig_box, encode, encode_skewed, params_from_bends, skewed_box, skews_of, with_skews,
 };

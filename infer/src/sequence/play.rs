@@ -1,6 +1,6 @@
 //! One dig of a sequence played under the exact model.
 
-use super::vars::{DigVars, SequenceDig, decode};
+use super::vars::{SequenceDig, decode};
 use crate::config::Config;
 use crate::dig::{Ground, Reference};
 use crate::query::DigQuery;
@@ -11,9 +11,9 @@ use crate::terrain::{CarveBuffer, Terrain};
 /// cannot evaluate: worse than any dig it can.
 pub const UNEVALUABLE: f64 = 1000.0;
 
-/// The dig that `v` stands for on `terrain` and its query; `None` if its
-/// poses are off the terrain or out of reach.
-pub fn query_of(cfg: &Config, v: &DigVars, terrain: &Terrain) -> Option<(SequenceDig, DigQuery)> {
+/// The dig that `v` stands for on `terrain` ([`decode`]) and its query;
+/// `None` if its poses are off the terrain or out of reach.
+pub fn query_of(cfg: &Config, v: &[f64], terrain: &Terrain) -> Option<(SequenceDig, DigQuery)> {
     let dig = decode(v, terrain)?;
     let query = DigQuery::from_poses(cfg, &dig.start, &dig.end, dig.start.y, dig.kind).ok()?;
     Some((dig, query))
@@ -26,7 +26,7 @@ pub fn query_of(cfg: &Config, v: &DigVars, terrain: &Terrain) -> Option<(Sequenc
 pub fn play_dig(
     cfg: &Config,
     guard: &DesignGuard,
-    v: &DigVars,
+    v: &[f64],
     terrain: &Terrain,
     carve: &mut CarveBuffer,
 ) -> Option<(SequenceDig, DigQuery, Assessment)> {
@@ -38,7 +38,7 @@ pub fn play_dig(
 pub fn play_dig_to_beat(
     cfg: &Config,
     guard: &DesignGuard,
-    v: &DigVars,
+    v: &[f64],
     terrain: &Terrain,
     carve: &mut CarveBuffer,
     reference: Option<Reference>,

@@ -15,6 +15,19 @@ pub const DIG_VARS: usize = 10;
 /// One dig as sequence variables.
 pub type DigVars = [f64; DIG_VARS];
 
+/// Variables per dig with the skew extension ([`crate::trajectory`]): the
+/// [`DIG_VARS`], then the skews k1–k3, each the largest angle (rad) by
+/// which a_i7 moves joint i, so skews of digs of any T compare.
+pub const SKEWED_VARS: usize = DIG_VARS + 3;
+
+/// Largest |s³ (s − 1)³ (s − ½)| on [0, 1], (3/14)³ / √28: a skew is
+/// a_i7 T⁷ times this.
+pub const SKEW_PEAK: f64 = 0.001_859_519_090_971_052;
+
+/// The skews' box: ±0.5 rad, wide enough for every skew the searches
+/// chose on tasks A–D (at most 0.06 rad; `dataset_gen/examples/skew_polish.rs`).
+pub const SKEW_RANGE: f64 = 0.5;
+
 /// One dig of a sequence, decoded on the surface the digs before it left
 /// (machine frame = terrain frame: the machine stays at base_x = 0).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -47,9 +60,30 @@ pub fn bends_of(p: &DigParams) -> [f64; 3] {
     p.a6.map(|a| a * half6)
 }
 
-/// The dig that `v` stands for on `terrain`; `None` if its start or end
-/// x is off the terrain.
-pub fn decode(v: &DigVars, terrain: &Terrain) -> Option<SequenceDig> {
+/// `params` with the skews k_i (rad) as its a_i7.
+pub fn with_skews(params: &DigParams, skews: &[f64]) -> DigParams {
+    let scale = libm::pow(params.duration, 7.0) * SKEW_PEAK;
+    DigParams {
+        a7: core::array::from_fn(|i| skews[i] / scale),
+        ..*params
+    }
+}
+
+/// The skews k_i = a_i7 T⁷ · [`SKEW_PEAK`] of `params` \[rad\].
+pub fn skews_of(params: &DigParams) -> [f64; 3] {
+    let scale = libm::pow(params.duration, 7.0) * SKEW_PEAK;
+    params.a7.map(|a| a * scale)
+}
+
+/// The dig that `v` ([`DIG_VARS`] numbers, or [`SKEWED_VARS`] with the
+/// skews) stands for on `terrain`; `None` if its start or end x is off
+/// the terrain, or `v` is of another length.
+pub fn decode(v: &[f64], terrain: &Terrain) -> Option<SequenceDig> {
+    let skews = match v.len() {
+        DIG_VARS => None,
+        SKEWED_VARS => Some(&v[DIG_VARS..]),
+        _ => return None,
+    };
     let kind = if v[0] < 0.5 {
         DigType::Downward
     } else {
@@ -68,7 +102,10 @@ pub fn decode(v: &DigVars, terrain: &Terrain) -> Option<SequenceDig> {
             y: terrain.height_at(ex)? + v[3],
             zeta: v[5],
         },
-        params: params_from_bends([v[6], v[7], v[8]], v[9]),
+        params: match skews {
+            None => params_from_bends([v[6], v[7], v[8]], v[9]),
+            Some(k) => with_skews(&params_from_bends([v[6], v[7], v[8]], v[9]), k),
+        },
     })
 }
 
@@ -99,6 +136,21 @@ pub fn encode(
         b[2],
         params.duration,
     ])
+}
+
+/// [`encode`] with the skews of `params` after the [`DIG_VARS`].
+pub fn encode_skewed(
+    kind: DigType,
+    start: &Pose,
+    end: &Pose,
+    params: &DigParams,
+    terrain: &Terrain,
+) -> Option<[f64; SKEWED_VARS]> {
+    let v = encode(kind, start, end, params, terrain)?;
+    let k = skews_of(params);
+    Some(core::array::from_fn(|i| {
+        if i < DIG_VARS { v[i] } else { k[i - DIG_VARS] }
+    }))
 }
 
 /// The box of one dig's variables on `design`: the start from 2 cm before
@@ -134,4 +186,14 @@ pub fn dig_box(cfg: &Config, design: &DesignProfile) -> (DigVars, DigVars) {
             t1,
         ],
     )
+}
+
+/// [`dig_box`] and the skews' ±[`SKEW_RANGE`].
+pub fn skewed_box(
+    cfg: &Config,
+    design: &DesignProfile,
+) -> ([f64; SKEWED_VARS], [f64; SKEWED_VARS]) {
+    let (lo, hi) = dig_box(cfg, design);
+    let widen = |b: DigVars, k: f64| core::array::from_fn(|i| if i < DIG_VARS { b[i] } else { k });
+    (widen(lo, -SKEW_RANGE), widen(hi, SKEW_RANGE))
 }
