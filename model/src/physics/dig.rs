@@ -110,6 +110,7 @@ pub fn dig_figures_with(
         delta: core::array::from_fn(|i| end[i].clone() - start[i].clone()),
         start,
         a6: core::array::from_fn(|i| col(&y, i)),
+        a7: None,
         duration: big_t.clone(),
     };
     let grid = TimeGrid::new(big_t.clone(), n);

@@ -132,6 +132,7 @@ pub fn play(cfg: &Config, designs: &Designs, u: Tensor<2>, mask: Tensor<2>) -> P
             delta: core::array::from_fn(|i| end[i].clone() - start[i].clone()),
             start,
             a6: core::array::from_fn(|i| var(6 + i) / half6.clone()),
+            a7: None,
             duration: duration.clone(),
         };
         let q = traj.sample(&TimeGrid::new(duration, cfg.time_samples)).q;
