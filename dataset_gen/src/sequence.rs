@@ -22,8 +22,8 @@ use crate::runner::{Budget, Runner};
 use infer::plan::{DigRecord, Plan};
 use infer::repair::{Assessment, DesignGuard};
 use infer::sequence::{
-    DIG_VARS, Refit, SKEWED_VARS, SequenceDig, UNEVALUABLE, dig_box, initial_step,
-    play_dig_to_beat, skewed_box,
+    DIG_VARS, Refit, SPEC_VARS, SequenceDig, UNEVALUABLE, dig_box, initial_step, play_dig_to_beat,
+    skewed_box,
 };
 use infer::{
     Config, DesignProfile, DigQuery, Outcome, PlannedDig, Planner, ProfileMetrics, Reference,
@@ -100,7 +100,7 @@ pub struct SequenceSettings {
     /// the profile alone decides).
     pub weight_objective: f64,
     /// Search the skews too (the extension of `infer::trajectory`): each
-    /// dig then has [`SKEWED_VARS`] variables, not [`DIG_VARS`].
+    /// dig then has [`DIG_VARS`] variables, not [`SPEC_VARS`].
     pub skew: bool,
 }
 
@@ -123,7 +123,7 @@ impl SequenceSettings {
     /// Variables per dig: type, start x, chord, end lift, start ζ, end ζ,
     /// b1–b3, T, and with [`Self::skew`] k1–k3.
     pub fn per_dig(&self) -> usize {
-        if self.skew { SKEWED_VARS } else { DIG_VARS }
+        if self.skew { DIG_VARS } else { SPEC_VARS }
     }
 
     /// Sequences evaluated per task (for progress bars).
@@ -327,12 +327,13 @@ const POLISH_MIN_STEP: f64 = 1e-3;
 /// most `budget` sequence evaluations: the best point and the
 /// evaluations spent.
 fn compass(p: &mut SequenceProblem<'_>, start: Individual, budget: usize) -> (Individual, usize) {
-    if p.per_dig == SKEWED_VARS {
+    if p.per_dig == DIG_VARS {
         let (lo, hi) = skewed_box(&p.cfg, &p.design);
         compass_in(p, start, budget, &lo, &hi)
     } else {
         let (lo, hi) = dig_box(&p.cfg, &p.design);
-        compass_in(p, start, budget, &lo, &hi)
+        let spec = |b: &[f64]| -> [f64; SPEC_VARS] { core::array::from_fn(|i| b[i]) };
+        compass_in(p, start, budget, &spec(&lo), &spec(&hi))
     }
 }
 
@@ -512,13 +513,13 @@ pub fn plan_value(plan: &Plan, weight_objective: f64) -> f64 {
 /// The variables' box for `digs` digs on `design` (each dig's is
 /// [`infer::sequence::dig_box`]).
 fn bounds(cfg: &Config, design: &DesignProfile, digs: usize, skew: bool) -> (Vec<f64>, Vec<f64>) {
-    if skew {
-        let (lo, hi) = skewed_box(cfg, design);
-        (lo.repeat(digs), hi.repeat(digs))
+    let (lo, hi) = if skew {
+        skewed_box(cfg, design)
     } else {
-        let (lo, hi) = dig_box(cfg, design);
-        (lo.repeat(digs), hi.repeat(digs))
-    }
+        dig_box(cfg, design)
+    };
+    let w = if skew { DIG_VARS } else { SPEC_VARS };
+    (lo[..w].repeat(digs), hi[..w].repeat(digs))
 }
 
 /// The plan the digs of `x` make, replayed on `p` from its start surface.
@@ -562,18 +563,26 @@ fn to_plan(
 }
 
 /// The sequence variables of `plan`'s digs carried over to `design`
-/// ([`Template::from_plan`], then [`Template::carried_to`]). A plan whose
-/// digs all start on the surface the digs before them left (as sequence
-/// PSO's do) gives back its own variables on its own design.
+/// ([`Template::from_plan`], then [`Template::carried_to`]), as many per
+/// dig as `settings` searches (the skews dropped without
+/// [`SequenceSettings::skew`]). A plan whose digs all start on the surface
+/// the digs before them left (as sequence PSO's do) gives back its own
+/// variables on its own design.
 pub fn carry_over(
     planner: &Planner,
     plan: &Plan,
     design: &DesignProfile,
+    settings: &SequenceSettings,
 ) -> Result<Vec<f64>, Error> {
     let t = Template::from_plan(planner, plan)
         .map_err(|e| Error::BadArgument(format!("not a template plan: {e}")))?;
     let carried = t.carried_to(planner.config(), design);
-    Ok(carried[..t.digs().len()].concat())
+    let w = settings.per_dig();
+    Ok(carried[..t.digs().len()]
+        .iter()
+        .flat_map(|d| &d[..w])
+        .copied()
+        .collect())
 }
 
 /// A plan for `task` from the sequence `init` (e.g. [`carry_over`] of

@@ -3,8 +3,8 @@
 //! panic on a bad network).
 #![allow(clippy::result_large_err)] // PlanError carries the violated constraint by value
 
-use infer::sequence::DIG_VARS;
-use infer::template::learned::{TASK_INPUTS, TASK_OUTPUTS, box_coordinates};
+use infer::sequence::{DIG_VARS, SPEC_VARS};
+use infer::template::learned::{SKEWED_TASK_OUTPUTS, TASK_INPUTS, TASK_OUTPUTS, box_coordinates};
 use infer::template::{TaskNetwork, TaskNetworkFile, TemplateFile, TemplateSettings, TemplateWork};
 use infer::{Config, DesignProfile, Planner, PlannerSettings, TrenchTask};
 use std::path::Path;
@@ -17,20 +17,26 @@ fn planner() -> Planner {
     Planner::new(&Config::default(), &PlannerSettings::default()).unwrap()
 }
 
-/// Widths [6, 1, 60] with zero weights: the output is μ_y, whatever the
-/// task and dig count.
-fn constant_network(u: &[f64; TASK_OUTPUTS]) -> (Vec<usize>, Vec<f64>) {
+/// Widths [6, 1, O] with zero weights (O = `u.len()`): the output is μ_y,
+/// whatever the task and dig count.
+fn constant_network(u: &[f64]) -> (Vec<usize>, Vec<f64>) {
+    let o = u.len();
     let mut p = vec![0.0; TASK_INPUTS];
     p.extend([1.0; TASK_INPUTS]);
     p.extend(u);
-    p.extend([1.0; TASK_OUTPUTS]);
-    p.extend(vec![0.0; TASK_INPUTS + 1 + TASK_OUTPUTS + TASK_OUTPUTS]);
-    (vec![TASK_INPUTS, 1, TASK_OUTPUTS], p)
+    p.extend(vec![1.0; o]);
+    p.extend(vec![0.0; TASK_INPUTS + 1 + o + o]);
+    (vec![TASK_INPUTS, 1, o], p)
 }
 
 /// A network that gives task A the shipped template the template planner
 /// plans A from, carried over to A, and that template.
 fn network_for_a(planner: &Planner) -> (Vec<usize>, Vec<f64>, infer::Template) {
+    network_of_width(planner, SPEC_VARS)
+}
+
+/// [`network_for_a`] with `w` outputs per dig (with the skews: 13).
+fn network_of_width(planner: &Planner, w: usize) -> (Vec<usize>, Vec<f64>, infer::Template) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/templates.json");
     let file = TemplateFile::from_json(&std::fs::read_to_string(path).unwrap()).unwrap();
     let task = TrenchTask::reference('A').unwrap();
@@ -46,13 +52,10 @@ fn network_for_a(planner: &Planner) -> (Vec<usize>, Vec<f64>, infer::Template) {
     let t = file.templates[work.seed()];
     let count = t.digs().len();
     let carried = t.carried_to(planner.config(), &design);
-    let mut u = [0.0; TASK_OUTPUTS];
+    let mut u = vec![0.0; TASK_OUTPUTS / SPEC_VARS * w];
     for (k, v) in carried[..count].iter().enumerate() {
-        u[k * DIG_VARS..(k + 1) * DIG_VARS].copy_from_slice(&box_coordinates(
-            planner.config(),
-            &design,
-            v,
-        ));
+        let b = box_coordinates(planner.config(), &design, v, w);
+        u[k * w..(k + 1) * w].copy_from_slice(&b[..w]);
     }
     let (w, p) = constant_network(&u);
     (w, p, t)
@@ -78,6 +81,35 @@ fn the_network_seed_is_its_box_coordinates_in_the_tasks_box() {
     for bad in [0, 7] {
         assert!(net.predict(planner.config(), &task, &design, bad).is_err());
     }
+}
+
+/// A network with the skews (78 outputs) seeds with them, and its refit
+/// moves them: the plan's digs use the extension and replay under the
+/// exact model in continuous time.
+#[test]
+fn a_network_with_skews_plans_with_them() {
+    let planner = planner();
+    let (widths, params, template) = network_of_width(&planner, DIG_VARS);
+    assert_eq!(widths[2], SKEWED_TASK_OUTPUTS);
+    let net = TaskNetwork::new(&widths, &params).unwrap();
+    assert!(net.skewed());
+    let task = TrenchTask::reference('A').unwrap();
+    let design = DesignProfile::new(planner.config(), &task);
+    let count = template.digs().len();
+    let seed = net
+        .predict(planner.config(), &task, &design, count)
+        .unwrap();
+    let carried = template.carried_to(planner.config(), &design);
+    for (a, b) in seed.digs().iter().zip(&carried[..count]) {
+        for i in 0..DIG_VARS {
+            assert!((a[i] - b[i]).abs() < 1e-12, "{} vs {}", a[i], b[i]);
+        }
+    }
+    let plan = planner
+        .plan_learned(&task, &net, &TemplateSettings::default())
+        .unwrap();
+    assert!(plan.digs.iter().any(|r| r.dig.params.is_skewed()));
+    assert_eq!(plan.verify(&planner).unwrap(), plan.metrics);
 }
 
 #[test]

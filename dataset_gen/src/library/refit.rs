@@ -125,7 +125,7 @@ pub fn refit_from_library(
         .nearest(task, digs, k)
         .into_par_iter()
         .map(|(path, plan)| {
-            let x = carry_over(planner, plan, &design)?;
+            let x = carry_over(planner, plan, &design, settings)?;
             let result = match refit_task(planner, task, &x, settings) {
                 Ok(p) => Ok(p),
                 Err(Error::BadProblem(why)) => Err(why),

@@ -102,7 +102,7 @@ pub(super) fn warm_task(
         .into_par_iter()
         .enumerate()
         .map(|(j, (_, plan))| {
-            let init = carry_over(planner, plan, &design)?;
+            let init = carry_over(planner, plan, &design, &search)?;
             let s = derive_seed(seed, j as u64);
             match optimise_near(planner, task, &init, settings.warm.radius, &search, s) {
                 Ok(p) => Ok(Ok(p)),

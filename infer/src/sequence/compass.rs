@@ -6,8 +6,8 @@ use super::vars::DIG_VARS;
 /// A sequence being refitted: it holds the best sequence so far, plays
 /// candidates that differ from it in one variable, and counts the exact
 /// evaluations spent. How a candidate is played (from which dig on, when
-/// it stops early) is its own business. `N`: variables per dig (more than
-/// [`DIG_VARS`] with the skews, [`super::vars::SKEWED_VARS`]).
+/// it stops early) is its own business. `N`: variables per dig
+/// ([`DIG_VARS`], or [`super::vars::SPEC_VARS`] for a search without skews).
 pub trait Refit<const N: usize = DIG_VARS> {
     /// The best sequence so far.
     fn best(&self) -> &[[f64; N]];

@@ -1,7 +1,7 @@
 //! Dig sequences: a whole-task plan as its digs' variables, and what every
 //! planner that searches such plans shares.
 //!
-//! A sequence of digs is searched as numbers, ten per dig ([`DigVars`]):
+//! A sequence of digs is searched as numbers, thirteen per dig ([`DigVars`]):
 //! type, start x, chord, end lift, start and end bucket attitude ζ, the
 //! three bends b_i = a_i6 (T/2)⁶ and T, and optionally three skews
 //! (the extension of [`crate::trajectory`]). The template planner
@@ -28,6 +28,6 @@ pub use deb::{better, compare};
 pub use nearest::{MAX_NEIGHBOURS, features, nearest};
 pub use play::{UNEVALUABLE, play_dig, play_dig_to_beat, query_of};
 pub use vars::{
-    DIG_VARS, DigVars, SKEW_PEAK, SKEW_RANGE, SKEWED_VARS, SequenceDig, bend_scale, bends_of,
-    decode, dig_box, encode, encode_skewed, params_from_bends, skewed_box, skews_of, with_skews,
+    DIG_VARS, DigVars, SKEW_PEAK, SKEW_RANGE, SPEC_VARS, SequenceDig, bend_scale, bends_of, decode,
+    dig_box, encode, params_from_bends, skewed_box, skews_of, with_skews,
 };

@@ -8,17 +8,19 @@ use crate::terrain::Terrain;
 use crate::trajectory::DigParams;
 use crate::trench::DesignProfile;
 
-/// Variables per dig: type (< 0.5 downward), start x, chord, end lift,
-/// start ζ, end ζ, the bends b1–b3 (b_i = a_i6 (T/2)⁶, rad) and T.
-pub const DIG_VARS: usize = 10;
+/// Variables per dig in the spec's family: type (< 0.5 downward), start x,
+/// chord, end lift, start ζ, end ζ, the bends b1–b3 (b_i = a_i6 (T/2)⁶,
+/// rad) and T. What spec-family networks give and old files hold.
+pub const SPEC_VARS: usize = 10;
+
+/// Variables per dig: the [`SPEC_VARS`], then the skews k1–k3 of the
+/// extension ([`crate::trajectory`]), each the largest angle (rad) by which
+/// a_i7 moves joint i, so skews of digs of any T compare. A dig of the
+/// spec's family has zero skews, and its search box holds them there.
+pub const DIG_VARS: usize = SPEC_VARS + 3;
 
 /// One dig as sequence variables.
 pub type DigVars = [f64; DIG_VARS];
-
-/// Variables per dig with the skew extension ([`crate::trajectory`]): the
-/// [`DIG_VARS`], then the skews k1–k3, each the largest angle (rad) by
-/// which a_i7 moves joint i, so skews of digs of any T compare.
-pub const SKEWED_VARS: usize = DIG_VARS + 3;
 
 /// Largest |s³ (s − 1)³ (s − ½)| on [0, 1], (3/14)³ / √28: a skew is
 /// a_i7 T⁷ times this.
@@ -75,13 +77,13 @@ pub fn skews_of(params: &DigParams) -> [f64; 3] {
     params.a7.map(|a| a * scale)
 }
 
-/// The dig that `v` ([`DIG_VARS`] numbers, or [`SKEWED_VARS`] with the
+/// The dig that `v` ([`DIG_VARS`] numbers, or the [`SPEC_VARS`] without
 /// skews) stands for on `terrain`; `None` if its start or end x is off
 /// the terrain, or `v` is of another length.
 pub fn decode(v: &[f64], terrain: &Terrain) -> Option<SequenceDig> {
     let skews = match v.len() {
-        DIG_VARS => None,
-        SKEWED_VARS => Some(&v[DIG_VARS..]),
+        SPEC_VARS => None,
+        DIG_VARS => Some(&v[SPEC_VARS..]),
         _ => return None,
     };
     let kind = if v[0] < 0.5 {
@@ -103,8 +105,10 @@ pub fn decode(v: &[f64], terrain: &Terrain) -> Option<SequenceDig> {
             zeta: v[5],
         },
         params: match skews {
-            None => params_from_bends([v[6], v[7], v[8]], v[9]),
-            Some(k) => with_skews(&params_from_bends([v[6], v[7], v[8]], v[9]), k),
+            Some(k) if k.iter().any(|&k| k != 0.0) => {
+                with_skews(&params_from_bends([v[6], v[7], v[8]], v[9]), k)
+            }
+            _ => params_from_bends([v[6], v[7], v[8]], v[9]),
         },
     })
 }
@@ -120,6 +124,7 @@ pub fn encode(
 ) -> Option<DigVars> {
     let lift = end.y - terrain.height_at(end.x)?;
     let b = bends_of(params);
+    let k = skews_of(params);
     let kind = match kind {
         DigType::Downward => 0.25,
         DigType::Backward => 0.75,
@@ -135,29 +140,18 @@ pub fn encode(
         b[1],
         b[2],
         params.duration,
+        k[0],
+        k[1],
+        k[2],
     ])
-}
-
-/// [`encode`] with the skews of `params` after the [`DIG_VARS`].
-pub fn encode_skewed(
-    kind: DigType,
-    start: &Pose,
-    end: &Pose,
-    params: &DigParams,
-    terrain: &Terrain,
-) -> Option<[f64; SKEWED_VARS]> {
-    let v = encode(kind, start, end, params, terrain)?;
-    let k = skews_of(params);
-    Some(core::array::from_fn(|i| {
-        if i < DIG_VARS { v[i] } else { k[i - DIG_VARS] }
-    }))
 }
 
 /// The box of one dig's variables on `design`: the start from 2 cm before
 /// the near edge to 3 cm past the far edge; chords of 5–55 cm; the end 5 cm
 /// below to 8 cm above the surface; ζ −120° to −40° at the start (teeth
 /// into the material) and 120° to 190° at the end (curled); bends within
-/// ±1 rad and T within the model's range.
+/// ±1 rad, T within the model's range, and the skews held at 0 (the
+/// spec's family; [`skewed_box`] frees them).
 pub fn dig_box(cfg: &Config, design: &DesignProfile) -> (DigVars, DigVars) {
     let [t0, t1] = cfg.objective.duration;
     (
@@ -172,6 +166,9 @@ pub fn dig_box(cfg: &Config, design: &DesignProfile) -> (DigVars, DigVars) {
             -1.0,
             -1.0,
             t0,
+            0.0,
+            0.0,
+            0.0,
         ],
         [
             1.0,
@@ -184,16 +181,17 @@ pub fn dig_box(cfg: &Config, design: &DesignProfile) -> (DigVars, DigVars) {
             1.0,
             1.0,
             t1,
+            0.0,
+            0.0,
+            0.0,
         ],
     )
 }
 
 /// [`dig_box`] and the skews' ±[`SKEW_RANGE`].
-pub fn skewed_box(
-    cfg: &Config,
-    design: &DesignProfile,
-) -> ([f64; SKEWED_VARS], [f64; SKEWED_VARS]) {
-    let (lo, hi) = dig_box(cfg, design);
-    let widen = |b: DigVars, k: f64| core::array::from_fn(|i| if i < DIG_VARS { b[i] } else { k });
-    (widen(lo, -SKEW_RANGE), widen(hi, SKEW_RANGE))
+pub fn skewed_box(cfg: &Config, design: &DesignProfile) -> (DigVars, DigVars) {
+    let (mut lo, mut hi) = dig_box(cfg, design);
+    lo[SPEC_VARS..].fill(-SKEW_RANGE);
+    hi[SPEC_VARS..].fill(SKEW_RANGE);
+    (lo, hi)
 }

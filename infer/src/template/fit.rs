@@ -2,10 +2,11 @@
 //! sequence; a move of dig k replays digs k.. only, on the surfaces the
 //! digs before it left.
 
+use super::learned::search_box;
 use super::search::retiming;
 use super::{Champion, Steps, TemplateSettings, TemplateWork};
 use crate::planner::Planner;
-use crate::sequence::{DigVars, Refit, compass, dig_box};
+use crate::sequence::{DigVars, Refit, compass};
 
 /// The template work seen by the compass search.
 struct Refitting<'a> {
@@ -61,7 +62,7 @@ impl TemplateWork {
         limit: usize,
         settings: &TemplateSettings,
     ) {
-        let (lo, hi) = dig_box(planner.config(), &self.design);
+        let (lo, hi) = search_box(planner.config(), &self.design, self.skew);
         let mut r = Refitting {
             work: self,
             planner,

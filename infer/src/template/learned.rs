@@ -7,7 +7,10 @@
 //! seeds the refit badly; a network trained on the whole library
 //! interpolates between its tasks. The output is each dig's variables in
 //! the task's own search box ([`dig_box`]), u = (v − lo) / (hi − lo), so
-//! start x and the rest scale with the design as the box does.
+//! start x and the rest scale with the design as the box does. A network
+//! trained on a library of the spec's family gives [`SPEC_VARS`] per dig;
+//! one trained on skewed plans gives the skews too ([`DIG_VARS`], box
+//! [`skewed_box`]), and the refit then moves them.
 //!
 //! The dig count is an input: one library plan in six has a dig fewer or
 //! more than [`crate::Planner::digs_for`] expects, and a 2-dig plan's first
@@ -18,27 +21,38 @@ use super::{MAX_TEMPLATE_DIGS, Template};
 use crate::config::Config;
 use crate::error::Error;
 use crate::network::Network;
-use crate::sequence::{DIG_VARS, DigVars, dig_box, features};
+use crate::sequence::{DIG_VARS, DigVars, SPEC_VARS, dig_box, features, skewed_box};
 use crate::trench::{DesignProfile, TrenchTask};
 
 /// Inputs: L, D, β1, β2 and far edge ([`features`]), and the dig count.
 pub const TASK_INPUTS: usize = 6;
-/// Outputs: [`DIG_VARS`] box coordinates for each of [`MAX_TEMPLATE_DIGS`] digs.
-pub const TASK_OUTPUTS: usize = MAX_TEMPLATE_DIGS * DIG_VARS;
+/// Outputs of a spec-family network: [`SPEC_VARS`] box coordinates for
+/// each of [`MAX_TEMPLATE_DIGS`] digs.
+pub const TASK_OUTPUTS: usize = MAX_TEMPLATE_DIGS * SPEC_VARS;
+/// Outputs of a network with the skews: [`DIG_VARS`] per dig.
+pub const SKEWED_TASK_OUTPUTS: usize = MAX_TEMPLATE_DIGS * DIG_VARS;
 
 /// The task network's forward pass, borrowing its parameters.
 #[derive(Debug, Clone, Copy)]
-pub struct TaskNetwork<'a> {
-    net: Network<'a, TASK_INPUTS, TASK_OUTPUTS>,
+pub enum TaskNetwork<'a> {
+    Spec(Network<'a, TASK_INPUTS, TASK_OUTPUTS>),
+    Skewed(Network<'a, TASK_INPUTS, SKEWED_TASK_OUTPUTS>),
 }
 
 impl<'a> TaskNetwork<'a> {
-    /// Checks widths (6 inputs, 60 outputs) and parameters as
-    /// [`Network::sized`] does.
+    /// Checks widths (6 inputs; 60 outputs, or 78 with the skews) and
+    /// parameters as [`Network::sized`] does.
     pub fn new(widths: &[usize], params: &'a [f64]) -> Result<Self, Error> {
-        Ok(TaskNetwork {
-            net: Network::sized(widths, params)?,
-        })
+        if widths.last() == Some(&SKEWED_TASK_OUTPUTS) {
+            Ok(TaskNetwork::Skewed(Network::sized(widths, params)?))
+        } else {
+            Ok(TaskNetwork::Spec(Network::sized(widths, params)?))
+        }
+    }
+
+    /// Whether it gives the skews.
+    pub fn skewed(&self) -> bool {
+        matches!(self, TaskNetwork::Skewed(_))
     }
 
     /// The `count` digs the network gives `task` (whose design is
@@ -58,11 +72,19 @@ impl<'a> TaskNetwork<'a> {
                 field: "task network digs (1 to MAX_TEMPLATE_DIGS)",
             });
         }
-        let u = self.net.forward(&task_inputs(task, count))?;
-        let (lo, hi) = dig_box(cfg, design);
+        let x = task_inputs(task, count);
         let mut digs = [[0.0; DIG_VARS]; MAX_TEMPLATE_DIGS];
-        for (k, dig) in digs.iter_mut().enumerate() {
-            *dig = core::array::from_fn(|i| lo[i] + u[k * DIG_VARS + i] * (hi[i] - lo[i]));
+        let mut fill = |u: &[f64], w: usize| {
+            let (lo, hi) = search_box(cfg, design, w == DIG_VARS);
+            for (k, dig) in digs.iter_mut().enumerate() {
+                for i in 0..w {
+                    dig[i] = lo[i] + u[k * w + i] * (hi[i] - lo[i]);
+                }
+            }
+        };
+        match self {
+            TaskNetwork::Spec(net) => fill(&net.forward(&x)?, SPEC_VARS),
+            TaskNetwork::Skewed(net) => fill(&net.forward(&x)?, DIG_VARS),
         }
         Template::new(*task, &digs[..count])
     }
@@ -74,11 +96,28 @@ pub fn task_inputs(task: &TrenchTask, count: usize) -> [f64; TASK_INPUTS] {
     [f[0], f[1], f[2], f[3], f[4], count as f64]
 }
 
-/// A dig's variables as box coordinates of `design`'s box (what the
-/// network is trained to give).
-pub fn box_coordinates(cfg: &Config, design: &DesignProfile, v: &DigVars) -> DigVars {
-    let (lo, hi) = dig_box(cfg, design);
-    core::array::from_fn(|i| (v[i] - lo[i]) / (hi[i] - lo[i]))
+/// The box of a search with the skews free ([`skewed_box`]) or held at
+/// 0 ([`dig_box`]).
+pub fn search_box(cfg: &Config, design: &DesignProfile, skew: bool) -> (DigVars, DigVars) {
+    if skew {
+        skewed_box(cfg, design)
+    } else {
+        dig_box(cfg, design)
+    }
+}
+
+/// A dig's first `w` variables ([`SPEC_VARS`] or, with the skews,
+/// [`DIG_VARS`]) as box coordinates of `design`'s box (what the network
+/// is trained to give).
+pub fn box_coordinates(cfg: &Config, design: &DesignProfile, v: &DigVars, w: usize) -> DigVars {
+    let (lo, hi) = search_box(cfg, design, w == DIG_VARS);
+    core::array::from_fn(|i| {
+        if i < w {
+            (v[i] - lo[i]) / (hi[i] - lo[i])
+        } else {
+            0.0
+        }
+    })
 }
 
 #[cfg(feature = "std")]
@@ -98,7 +137,8 @@ mod file {
     pub struct TaskNetworkFile {
         /// Always [`TaskNetworkFile::FORMAT`].
         pub format: String,
-        /// Layer widths, inputs first: e.g. [6, 64, 64, 60].
+        /// Layer widths, inputs first: e.g. [6, 64, 64, 60] (78 outputs
+        /// with the skews).
         pub widths: Vec<usize>,
         /// μ_x σ_x μ_y σ_y, then per layer W (in × out) and b, as
         /// [`crate::network`] lays them out.

@@ -45,7 +45,7 @@ use crate::config::Config;
 use crate::error::Error;
 use crate::repair::DesignGuard;
 use crate::retime::RetimeWork;
-use crate::sequence::{DIG_VARS, DigVars, MAX_NEIGHBOURS};
+use crate::sequence::{DIG_VARS, DigVars, MAX_NEIGHBOURS, SPEC_VARS};
 use crate::terrain::{CarveBuffer, Terrain};
 use crate::trench::{DesignProfile, TrenchTask};
 use serde::{Deserialize, Serialize};
@@ -106,6 +106,13 @@ impl Template {
         &self.digs[..self.count]
     }
 
+    /// Whether a dig of it has a skew.
+    pub fn skewed(&self) -> bool {
+        self.digs()
+            .iter()
+            .any(|d| d[SPEC_VARS..].iter().any(|&k| k != 0.0))
+    }
+
     /// Its digs carried over to `design`: start x and chord stretched with
     /// the design from edge to edge; type, end lift, bucket attitudes,
     /// bends and T kept.
@@ -136,6 +143,10 @@ pub struct TemplateSettings {
     /// Weight of the digs' mean objective next to the under- plus
     /// over-dug fraction that the refit minimises.
     pub weight_objective: f64,
+    /// Whether the refit also moves each dig's skews (the extension of
+    /// [`crate::trajectory`]): always for a network that gives them or
+    /// templates that have them; this also frees them for other seeds.
+    pub skew: bool,
     /// The share of `max_evaluations` spent refitting each seed in turn
     /// (evenly) before the best of them gets the rest.
     pub seed_share: f64,
@@ -156,6 +167,7 @@ impl Default for TemplateSettings {
             neighbours: 4,
             max_evaluations: 4800,
             weight_objective: 0.0,
+            skew: false,
             seed_share: 0.5,
             min_step: 1e-3,
             retime: true,
@@ -245,6 +257,8 @@ pub struct TemplateWork {
     /// Digs of the last plan if it succeeded, else 0.
     planned: usize,
     seed: usize,
+    /// Whether the last plan's refit moved the skews.
+    skew: bool,
 }
 
 impl core::fmt::Debug for TemplateWork {
@@ -257,29 +271,43 @@ impl core::fmt::Debug for TemplateWork {
     }
 }
 
-/// The file form of a template (`std`): its digs as a list.
+/// The file form of a template (`std`): its digs as a list, each of
+/// [`DIG_VARS`] numbers, or the [`SPEC_VARS`] where no dig is skewed (as
+/// files were before the skews).
 #[cfg(feature = "std")]
 #[derive(Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct TemplateRecord {
     task: TrenchTask,
-    digs: std::vec::Vec<DigVars>,
+    digs: std::vec::Vec<std::vec::Vec<f64>>,
 }
 
 #[cfg(feature = "std")]
 impl TryFrom<TemplateRecord> for Template {
     type Error = Error;
     fn try_from(r: TemplateRecord) -> Result<Self, Error> {
-        Template::new(r.task, &r.digs)
+        let mut digs = std::vec::Vec::with_capacity(r.digs.len());
+        for d in &r.digs {
+            if d.len() != SPEC_VARS && d.len() != DIG_VARS {
+                return Err(Error::BadConfig {
+                    field: "template dig (10 or 13 variables)",
+                });
+            }
+            let mut v = [0.0; DIG_VARS];
+            v[..d.len()].copy_from_slice(d);
+            digs.push(v);
+        }
+        Template::new(r.task, &digs)
     }
 }
 
 #[cfg(feature = "std")]
 impl From<Template> for TemplateRecord {
     fn from(t: Template) -> Self {
+        let w = if t.skewed() { DIG_VARS } else { SPEC_VARS };
         TemplateRecord {
             task: t.task,
-            digs: t.digs().to_vec(),
+            digs: t.digs().iter().map(|d| d[..w].to_vec()).collect(),
         }
     }
 }

@@ -3,13 +3,14 @@
 //! the bound; and the plan's phases in order.
 
 use super::learned::TaskNetwork;
+use super::learned::search_box;
 use super::{
     Champion, MAX_TEMPLATE_DIGS, Played, Steps, Template, TemplateSettings, TemplateWork, WINDOW,
     WINDOW_AFTER, WINDOW_BEFORE,
 };
 use crate::planner::{PlanError, Planner};
 use crate::sequence::MAX_NEIGHBOURS;
-use crate::sequence::{DIG_VARS, DigVars, dig_box, initial_step, nearest};
+use crate::sequence::{DIG_VARS, DigVars, initial_step, nearest};
 use crate::trench::{DesignProfile, TaskError, TrenchTask};
 
 impl Champion {
@@ -143,13 +144,8 @@ impl TemplateWork {
         settings: &TemplateSettings,
     ) -> Result<Seeds, PlanError> {
         let cfg = planner.config();
-        let (lo, hi) = dig_box(cfg, &self.design);
-        let clamp = |v: &mut DigVars| {
-            for i in 0..DIG_VARS {
-                v[i] = v[i].clamp(lo[i], hi[i]);
-            }
-        };
         let mut near: [Option<(usize, Template)>; MAX_NEIGHBOURS] = [None; MAX_NEIGHBOURS];
+        self.skew = settings.skew;
         match source {
             Source::Templates(templates) => {
                 let stored = templates.iter().map(|t| (t.task, t.count));
@@ -157,6 +153,7 @@ impl TemplateWork {
                 for (slot, i) in near.iter_mut().zip(found) {
                     *slot = i.map(|i| (i, templates[i]));
                 }
+                self.skew |= near.iter().flatten().any(|(_, t)| t.skewed());
             }
             Source::Network(net) => {
                 // One library plan in six has a dig fewer or more than
@@ -169,8 +166,15 @@ impl TemplateWork {
                 for (slot, c) in near.iter_mut().zip(counts) {
                     *slot = Some((0, net.predict(cfg, &self.task, &self.design, c)?));
                 }
+                self.skew |= net.skewed();
             }
         }
+        let (lo, hi) = search_box(cfg, &self.design, self.skew);
+        let clamp = |v: &mut DigVars| {
+            for i in 0..DIG_VARS {
+                v[i] = v[i].clamp(lo[i], hi[i]);
+            }
+        };
         let seeds = near.iter().flatten().count();
         let per_seed = (settings.seed_share
             * (settings.max_evaluations - last_stage(settings)) as f64

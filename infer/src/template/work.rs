@@ -39,6 +39,7 @@ impl TemplateWork {
             retime: RetimeWork::default(),
             planned: 0,
             seed: 0,
+            skew: false,
         })
     }
 
