@@ -11,7 +11,7 @@ use burn::module::{Module, Param};
 use burn::nn::{Linear, Tanh};
 use burn::prelude::*;
 use infer::template::TaskNetworkFile;
-use infer::template::learned::{TASK_INPUTS, TASK_OUTPUTS};
+use infer::template::learned::TASK_INPUTS;
 
 /// The network (see the module docs).
 #[derive(Module, Debug)]
@@ -36,11 +36,13 @@ pub struct TaskNormalisation {
 
 impl TaskNet {
     /// A fresh network with these hidden widths, seeded as
-    /// [`dense::seeded_layers`], normalised by `n`.
+    /// [`dense::seeded_layers`], normalised by `n`; as many outputs as `n`
+    /// has (`infer::template::learned::TASK_OUTPUTS`, or
+    /// `SKEWED_TASK_OUTPUTS` with the skews).
     pub fn init(hidden: &[usize], n: &TaskNormalisation, device: &Device, seed: u64) -> Self {
         let mut widths = vec![TASK_INPUTS];
         widths.extend(hidden);
-        widths.push(TASK_OUTPUTS);
+        widths.push(n.y_mean.len());
         let buffer = |v: &[f64]| dense::buffer(v.to_vec(), device);
         TaskNet {
             layers: dense::seeded_layers(&widths, device, seed),

@@ -3,34 +3,36 @@
 //! exact model, must leave the same under- and over-dug area and take the
 //! same area per dig. Plans: the shipped library sample, as stored and
 //! moved at random within ±0.05 of their box (digs the model may reject:
-//! carving does not ask).
+//! carving does not ask), in the spec's box and with the skews free.
 
 mod common;
 
 use burn::prelude::*;
 use burn::tensor::TensorData;
 use infer::rng::SplitMix64;
-use infer::sequence::{DigVars, dig_box, query_of};
-use infer::template::learned::box_coordinates;
+use infer::sequence::{DIG_VARS, DigVars, SPEC_VARS, query_of};
+use infer::template::learned::{box_coordinates, search_box};
 use infer::template::{MAX_TEMPLATE_DIGS, Template};
 use infer::{CarveBuffer, DesignProfile, Planner, TrenchTask, forward};
 use model::physics::sequence::Designs;
 use model::physics::sequence::play;
 
-const VARS: usize = infer::sequence::DIG_VARS;
+/// Variables per dig of the spec's family; [`DIG_VARS`] with the skews.
+const VARS: usize = SPEC_VARS;
 
 /// Under- and over-dug fractions and each dig's removed area \[m²\] by
-/// `infer` for the plan `digs` (box coordinates): each dig decoded on the surface the earlier ones left, its tip
+/// `infer` for the plan `digs` (box coordinates, the first `w` of each):
+/// each dig decoded on the surface the earlier ones left, its tip
 /// polyline through `cfg.time_samples` samples carved.
-fn exact(planner: &Planner, task: &TrenchTask, digs: &[DigVars]) -> Option<Exact> {
+fn exact(planner: &Planner, task: &TrenchTask, digs: &[DigVars], w: usize) -> Option<Exact> {
     let cfg = planner.config();
     let design = DesignProfile::new(cfg, task);
     let mut terrain = planner.initial_terrain(&design).unwrap();
     let mut carve = CarveBuffer::default();
     let (mut areas, mut queries) = (Vec::new(), Vec::new());
-    let (lo, hi) = dig_box(cfg, &design);
+    let (lo, hi) = search_box(cfg, &design, w == DIG_VARS);
     for u in digs {
-        let v: DigVars = core::array::from_fn(|i| lo[i] + u[i] * (hi[i] - lo[i]));
+        let v: Vec<f64> = (0..w).map(|i| lo[i] + u[i] * (hi[i] - lo[i])).collect();
         let (dig, query) = query_of(cfg, &v, &terrain)?;
         queries.push(query.input());
         let traj = infer::Trajectory::new(&query.start, &query.end, &dig.params).unwrap();
@@ -68,7 +70,7 @@ struct Exact {
 
 type Played = (TrenchTask, Vec<DigVars>, Exact);
 
-fn plans(planner: &Planner, moved: usize) -> Vec<Played> {
+fn plans(planner: &Planner, moved: usize, w: usize) -> Vec<Played> {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/library_sample");
     let mut out = Vec::new();
     let mut rng = SplitMix64::new(11);
@@ -80,21 +82,29 @@ fn plans(planner: &Planner, moved: usize) -> Vec<Played> {
         let u: Vec<DigVars> = template
             .digs()
             .iter()
-            .map(|v| box_coordinates(cfg, &plan.design, v))
+            .map(|v| box_coordinates(cfg, &plan.design, v, w))
             .collect();
         out.push((
             plan.task,
             u.clone(),
-            exact(planner, &plan.task, &u).unwrap(),
+            exact(planner, &plan.task, &u, w).unwrap(),
         ));
         let mut kept = 0;
         while kept < moved {
-            let w: Vec<DigVars> = u
+            let moved_plan: Vec<DigVars> = u
                 .iter()
-                .map(|d| d.map(|x| (x + rng.range(-0.05, 0.05)).clamp(0.0, 1.0)))
+                .map(|d| {
+                    core::array::from_fn(|i| {
+                        if i < w {
+                            (d[i] + rng.range(-0.05, 0.05)).clamp(0.0, 1.0)
+                        } else {
+                            0.0
+                        }
+                    })
+                })
                 .collect();
-            if let Some(e) = exact(planner, &plan.task, &w) {
-                out.push((plan.task, w, e));
+            if let Some(e) = exact(planner, &plan.task, &moved_plan, w) {
+                out.push((plan.task, moved_plan, e));
                 kept += 1;
             }
         }
@@ -108,16 +118,23 @@ fn planner() -> Planner {
 
 #[test]
 fn a_plan_played_in_tensors_digs_what_infer_digs() {
+    for w in [VARS, DIG_VARS] {
+        plays_as_infer_does(w);
+    }
+}
+
+/// [`a_plan_played_in_tensors_digs_what_infer_digs`] with `w` variables per dig.
+fn plays_as_infer_does(w: usize) {
     let planner = planner();
     let cfg = planner.config();
     let device = common::device(true);
-    let plans = plans(&planner, 3);
-    let (u, mask, designs) = batch(&plans, &device);
+    let plans = plans(&planner, 3, w);
+    let (u, mask, designs) = batch(&plans, &device, w);
     let b = plans.len();
     let played = play(
         cfg,
         &designs,
-        Tensor::from_data(TensorData::new(u, [b, MAX_TEMPLATE_DIGS * VARS]), &device),
+        Tensor::from_data(TensorData::new(u, [b, MAX_TEMPLATE_DIGS * w]), &device),
         mask,
     );
     let (under, over, removed, queries) = (
@@ -165,24 +182,25 @@ fn a_plan_played_in_tensors_digs_what_infer_digs() {
     }
 }
 
-/// The stored plans as one batch: box coordinates and dig mask.
-fn batch(plans: &[Played], device: &Device) -> (Vec<f64>, Tensor<2>, Designs) {
+/// The stored plans as one batch: box coordinates (`w` per dig) and dig mask.
+fn batch(plans: &[Played], device: &Device, w: usize) -> (Vec<f64>, Tensor<2>, Designs) {
     let cfg = infer::Config::default();
     let tasks: Vec<TrenchTask> = plans.iter().map(|p| p.0).collect();
     let b = plans.len();
     let (mut u, mut mask) = (
-        vec![0.0; b * MAX_TEMPLATE_DIGS * VARS],
+        vec![0.0; b * MAX_TEMPLATE_DIGS * w],
         vec![0.0; b * MAX_TEMPLATE_DIGS],
     );
     for (i, (_, digs, _)) in plans.iter().enumerate() {
         for (k, d) in digs.iter().enumerate() {
-            let at = (i * MAX_TEMPLATE_DIGS + k) * VARS;
-            u[at..at + VARS].copy_from_slice(d);
+            let at = (i * MAX_TEMPLATE_DIGS + k) * w;
+            u[at..at + w].copy_from_slice(&d[..w]);
             mask[i * MAX_TEMPLATE_DIGS + k] = 1.0;
         }
     }
     let mask = Tensor::from_data(TensorData::new(mask, [b, MAX_TEMPLATE_DIGS]), device);
-    (u, mask, Designs::new(&cfg, &tasks, cfg.terrain_dx, device))
+    let designs = Designs::new(&cfg, &tasks, cfg.terrain_dx, w == DIG_VARS, device);
+    (u, mask, designs)
 }
 
 /// The profile and the removed areas are differentiable in the plan: the
@@ -194,8 +212,8 @@ fn the_played_profile_has_the_gradient_of_finite_differences() {
     let planner = planner();
     let cfg = planner.config();
     let base = common::device(true);
-    let plans = plans(&planner, 0);
-    let (u0, mask, designs) = batch(&plans, &base);
+    let plans = plans(&planner, 0, VARS);
+    let (u0, mask, designs) = batch(&plans, &base, VARS);
     let b = plans.len();
     let shape = [b, MAX_TEMPLATE_DIGS * VARS];
     // Areas in cm² so they weigh like the fractions.
@@ -205,7 +223,7 @@ fn the_played_profile_has_the_gradient_of_finite_differences() {
     let u = Tensor::<2>::from_data(TensorData::new(u0.clone(), shape), &base)
         .autodiff()
         .require_grad();
-    let (_, mask_ad, designs_ad) = batch(&plans, &base.clone().autodiff());
+    let (_, mask_ad, designs_ad) = batch(&plans, &base.clone().autodiff(), VARS);
     let grads = loss(&play(cfg, &designs_ad, u.clone(), mask_ad)).backward();
     let g = common::values(&u.grad(&grads).expect("gradient of the plan"));
     let f = |v: &[f64]| {

@@ -74,6 +74,44 @@ fn the_shipped_library_trains_a_network_infer_reads() {
     assert_eq!(seed.digs().len(), count);
 }
 
+/// A library whose plans use the skews (here the shipped one with a
+/// small skew put on every dig) gives samples of 13 variables per dig and
+/// a network of 78 outputs that `infer` reads as one with the skews.
+#[test]
+fn a_skewed_library_trains_a_network_with_skews() {
+    let planner = planner();
+    let dir = std::env::temp_dir().join(format!("skewed_library_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for entry in std::fs::read_dir(shipped_library()).unwrap() {
+        let path = entry.unwrap().path();
+        let mut json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        if let Some(digs) = json.get_mut("digs").and_then(|d| d.as_array_mut()) {
+            for d in digs {
+                d["params"]["a7"] = serde_json::json!([2e-6, -3e-6, 1e-6]);
+            }
+        }
+        std::fs::write(dir.join(path.file_name().unwrap()), json.to_string()).unwrap();
+    }
+    let (samples, _) = load_library(&dir, &planner).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(samples.iter().all(|s| s.vars() == 13));
+    // The skews' box coordinates: off the middle (0 rad), within the box.
+    let s = &samples[0];
+    assert!((0..s.count).all(|k| (10..13).all(|v| {
+        let u = s.y[k * 13 + v];
+        u != 0.5 && (0.0..=1.0).contains(&u)
+    })));
+    let settings = TaskTrainSettings {
+        epochs: 3,
+        ..small()
+    };
+    let a = train_task_network(&samples, &settings, 3, &runtime(), false).unwrap();
+    let file = infer::template::TaskNetworkFile::from_json(&a.net.export(3).to_json()).unwrap();
+    assert_eq!(file.widths.last(), Some(&78));
+    assert!(file.network().unwrap().skewed());
+}
+
 #[test]
 fn bad_settings_and_folders_give_errors() {
     let planner = planner();
@@ -128,7 +166,7 @@ fn synthetic(n: usize, f: impl Fn(f64) -> f64, noise: impl Fn(usize) -> f64) -> 
     (0..n)
         .map(|i| {
             let t = i as f64 / n as f64;
-            let mut y = [0.0; 60];
+            let mut y = vec![0.0; 60];
             for v in &mut y[..10] {
                 *v = f(t) + noise(i);
             }

@@ -85,7 +85,8 @@ pub enum VolumeModel {
 /// The figures of a batch of digs on a surface flat at H.
 ///
 /// `x`: `[B, 7]` raw queries X = [θs1..3, θe1..3, H] (rad, m); `y`: `[B, 4]`
-/// raw outputs Y = [a16, a26, a36, T] (rad/s⁶, s); one dig type per batch.
+/// raw outputs Y = [a16, a26, a36, T] (rad/s⁶, s), or `[B, 7]` with the
+/// skews a_i7 (rad/s⁷) after T; one dig type per batch.
 /// Differentiable in `y` (and `x`).
 pub fn dig_figures(cfg: &Config, kind: DigType, x: Tensor<2>, y: Tensor<2>) -> Figures {
     dig_figures_with(cfg, kind, x, y, VolumeModel::Surrogate)
@@ -110,7 +111,7 @@ pub fn dig_figures_with(
         delta: core::array::from_fn(|i| end[i].clone() - start[i].clone()),
         start,
         a6: core::array::from_fn(|i| col(&y, i)),
-        a7: None,
+        a7: (y.dims()[1] == 7).then(|| core::array::from_fn(|i| col(&y, 4 + i))),
         duration: big_t.clone(),
     };
     let grid = TimeGrid::new(big_t.clone(), n);

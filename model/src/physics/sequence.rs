@@ -15,7 +15,8 @@ use super::relu;
 use super::trajectory::{TimeGrid, Trajectory};
 use burn::prelude::*;
 use burn::tensor::TensorData;
-use infer::sequence::{DIG_VARS, dig_box};
+use infer::sequence::{DIG_VARS, SKEW_PEAK, SPEC_VARS};
+use infer::template::learned::search_box;
 use infer::{Config, DesignProfile, TrenchTask};
 
 /// How far the profile grid reaches past the design's near and far top
@@ -26,8 +27,8 @@ const GRID_MARGIN: [f64; 2] = [0.6, 0.1];
 /// A batch of tasks to play plans on.
 #[derive(Debug, Clone)]
 pub struct Designs {
-    /// Each task's dig box (`infer::sequence::dig_box`), low and high
-    /// corners, `[B, 10]` each.
+    /// Each task's dig box (`infer::template::learned::search_box`), low
+    /// and high corners, `[B, W]` each: W = 10, or 13 with the skews.
     pub lo: Tensor<2>,
     pub hi: Tensor<2>,
     /// The fresh site, on the grid the profile is measured on.
@@ -43,8 +44,10 @@ pub struct Designs {
 impl Designs {
     /// The designs of `tasks` on grids of spacing `dx` \[m\] from 60 cm
     /// before each near edge to 10 cm past each far edge (every row as
-    /// many nodes as the longest task needs).
-    pub fn new(cfg: &Config, tasks: &[TrenchTask], dx: f64, device: &Device) -> Self {
+    /// many nodes as the longest task needs), their boxes with the skews
+    /// if `skew`.
+    pub fn new(cfg: &Config, tasks: &[TrenchTask], dx: f64, skew: bool, device: &Device) -> Self {
+        let w = if skew { DIG_VARS } else { SPEC_VARS };
         let profiles: Vec<DesignProfile> =
             tasks.iter().map(|t| DesignProfile::new(cfg, t)).collect();
         let span = profiles
@@ -64,17 +67,17 @@ impl Designs {
                 x.push(xj);
                 design.push(d.height_at(xj));
             }
-            let (l, h) = dig_box(cfg, d);
-            lo.extend(l);
-            hi.extend(h);
+            let (l, h) = search_box(cfg, d, skew);
+            lo.extend(&l[..w]);
+            hi.extend(&h[..w]);
             area.push(d.area());
         }
         let tensor =
             |v: Vec<f64>, cols: usize| Tensor::from_data(TensorData::new(v, [b, cols]), device);
         let x = tensor(x, nodes);
         Designs {
-            lo: tensor(lo, DIG_VARS),
-            hi: tensor(hi, DIG_VARS),
+            lo: tensor(lo, w),
+            hi: tensor(hi, w),
             ground: Surface {
                 h: x.zeros_like() + cfg.ground_level,
                 x,
@@ -103,18 +106,19 @@ pub struct Played {
     pub over: Tensor<2>,
 }
 
-/// Plays the plans `u` (`[B, digs·10]`, each dig's variables as
+/// Plays the plans `u` (`[B, digs·W]`, W as in [`Designs`], each dig's variables as
 /// coordinates of its task's box, as the task network gives them) on
 /// `designs`; `mask` (`[B, digs]`, 1 or 0) says which digs each plan has.
 /// `cfg.time_samples` samples per dig.
 pub fn play(cfg: &Config, designs: &Designs, u: Tensor<2>, mask: Tensor<2>) -> Played {
     let digs = mask.dims()[1];
+    let w = designs.lo.dims()[1];
     let l = &cfg.machine.link_length;
     let mut surface = designs.ground.clone();
     let mut removed = Vec::with_capacity(digs);
     let mut queries = Vec::with_capacity(digs);
     for k in 0..digs {
-        let box_u = u.clone().narrow(1, k * DIG_VARS, DIG_VARS);
+        let box_u = u.clone().narrow(1, k * w, w);
         let v = designs.lo.clone() + box_u * (designs.hi.clone() - designs.lo.clone());
         let var = |i: usize| v.clone().narrow(1, i, 1);
         let (start_x, end_x) = (var(1), var(1) - var(2));
@@ -132,7 +136,11 @@ pub fn play(cfg: &Config, designs: &Designs, u: Tensor<2>, mask: Tensor<2>) -> P
             delta: core::array::from_fn(|i| end[i].clone() - start[i].clone()),
             start,
             a6: core::array::from_fn(|i| var(6 + i) / half6.clone()),
-            a7: None,
+            // Skews k_i = a_i7 T⁷ · SKEW_PEAK (`infer::sequence::with_skews`).
+            a7: (w == DIG_VARS).then(|| {
+                let scale = duration.clone().powi_scalar(7) * SKEW_PEAK;
+                core::array::from_fn(|i| var(SPEC_VARS + i) / scale.clone())
+            }),
             duration: duration.clone(),
         };
         let q = traj.sample(&TimeGrid::new(duration, cfg.time_samples)).q;

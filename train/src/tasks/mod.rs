@@ -3,11 +3,12 @@
 //!
 //! The loss has four parts, and R(W):
 //! - data: the mean, over the digs a plan has, of the squared error of the
-//!   dig's 10 normalised box coordinates (digs past a plan's count are
-//!   masked out);
+//!   dig's 10 normalised box coordinates, 13 where the library's plans use
+//!   the skews (`infer::trajectory`; digs past a plan's count are masked
+//!   out);
 //! - physics: every predicted dig's motion checks under the tensor physics
 //!   (`model::physics::motion_penalty`), its Y = [a16, a26, a36, T] taken
-//!   from the predicted bends and T, its query (joint angles at start and
+//!   from the predicted bends and T (and a_i7 from the skews), its query (joint angles at start and
 //!   end, and H) from its predicted poses on the surface the predicted
 //!   digs before it left (the played plan below); with the profile term
 //!   off, from the library plan's dig (teacher forcing). Its dig type is
@@ -31,8 +32,9 @@ use burn::optim::{AdamConfig, GradientsParams};
 use burn::prelude::*;
 use burn::tensor::TensorData;
 use dataset_gen::jobs::progress_bar;
+use infer::sequence::{DIG_VARS, SKEW_PEAK, SKEW_RANGE, SPEC_VARS};
 use infer::template::Template;
-use infer::template::learned::{TASK_INPUTS, TASK_OUTPUTS, box_coordinates, task_inputs};
+use infer::template::learned::{TASK_INPUTS, box_coordinates, task_inputs};
 use infer::{DigType, Planner, TrenchTask};
 use model::physics::sequence::{Designs, play};
 use model::physics::{dig_figures, motion_penalty};
@@ -41,8 +43,6 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::time::Instant;
 
-/// Variables per dig (`infer::sequence::DIG_VARS`).
-pub(crate) const VARS: usize = infer::sequence::DIG_VARS;
 /// Digs the network gives (`infer::template::MAX_TEMPLATE_DIGS`).
 const DIGS: usize = infer::template::MAX_TEMPLATE_DIGS;
 
@@ -54,11 +54,19 @@ pub struct TaskSample {
     pub task: TrenchTask,
     /// L, D, β1, β2, far edge and the dig count (`task_inputs`).
     pub x: [f64; TASK_INPUTS],
-    /// Box coordinates of each dig; zeros past `count`.
-    pub y: [f64; TASK_OUTPUTS],
+    /// Box coordinates of each dig, [`Self::vars`] per dig; zeros past `count`.
+    pub y: Vec<f64>,
     pub count: usize,
     /// Each dig's type and query X = [θs1..3, θe1..3, H].
     pub queries: Vec<(DigType, [f64; 7])>,
+}
+
+impl TaskSample {
+    /// Variables per dig: `SPEC_VARS`, or `DIG_VARS` from a library
+    /// whose plans use the skews.
+    pub fn vars(&self) -> usize {
+        self.y.len() / DIGS
+    }
 }
 
 /// Plans a library could not give as samples, and why.
@@ -69,14 +77,15 @@ pub struct Skipped {
 
 /// The library's plans (a folder of `task_NNN.json`, as `dataset_gen
 /// library` writes) as samples; a plan that is not a template of at most
-/// 6 digs at base_x = 0 is skipped and named.
+/// 6 digs at base_x = 0 is skipped and named. If any plan uses the skews,
+/// every sample has them (`DIG_VARS` per dig), else `SPEC_VARS`.
 pub fn load_library(
     dir: &Path,
     planner: &Planner,
 ) -> Result<(Vec<TaskSample>, Skipped), TrainError> {
     let lib = dataset_gen::library::Library::load(dir)?;
     let cfg = planner.config();
-    let mut samples = Vec::new();
+    let mut templates = Vec::new();
     let mut skipped = Skipped::default();
     for (path, plan) in &lib.plans {
         let name = path.display().to_string();
@@ -91,17 +100,22 @@ pub fn load_library(
                 path: path.clone(),
                 detail: "not a task_NNN.json library entry".into(),
             })?;
-        let template = match Template::from_plan(planner, plan) {
-            Ok(t) => t,
-            Err(e) => {
-                skipped.plans.push((name, e.to_string()));
-                continue;
-            }
-        };
-        let mut y = [0.0; TASK_OUTPUTS];
+        match Template::from_plan(planner, plan) {
+            Ok(t) => templates.push((index, plan, t)),
+            Err(e) => skipped.plans.push((name, e.to_string())),
+        }
+    }
+    let w = if templates.iter().any(|(_, _, t)| t.skewed()) {
+        DIG_VARS
+    } else {
+        SPEC_VARS
+    };
+    let mut samples = Vec::with_capacity(templates.len());
+    for (index, plan, template) in templates {
+        let mut y = vec![0.0; DIGS * w];
         for (k, v) in template.digs().iter().enumerate() {
-            let u = box_coordinates(cfg, &plan.design, v);
-            y[k * VARS..(k + 1) * VARS].copy_from_slice(&u);
+            let u = box_coordinates(cfg, &plan.design, v, w);
+            y[k * w..(k + 1) * w].copy_from_slice(&u[..w]);
         }
         samples.push(TaskSample {
             index,
@@ -266,8 +280,8 @@ fn normalisation(train: &[&TaskSample]) -> TaskNormalisation {
     };
     let (x_mean, x_std) = stats(TASK_INPUTS, &|s, j| Some(s.x[j]), 0.0);
     let (y_mean, y_std) = stats(
-        TASK_OUTPUTS,
-        &|s, j| (j / VARS < s.count).then_some(s.y[j]),
+        train[0].y.len(),
+        &|s, j| (j / s.vars() < s.count).then_some(s.y[j]),
         MIN_OUTPUT_STD,
     );
     TaskNormalisation {
@@ -278,9 +292,10 @@ fn normalisation(train: &[&TaskSample]) -> TaskNormalisation {
     }
 }
 
-/// A batch on `device`: X [B, 6], box coordinates [B, 60], the mask of
-/// the digs each plan has [B, 60], per dig type the one-hot rows that
-/// pick its digs out of the [B·6, 10] predictions with their queries, and
+/// A batch on `device`: X [B, 6], box coordinates [B, 6·W] (W variables
+/// per dig), the mask of the digs each plan has [B, 6·W], per dig type the
+/// one-hot rows that pick its digs out of the [B·6, W] predictions with
+/// their queries, and
 /// (when the profile is weighed) the tasks' designs with the mask of
 /// digs [B, 6].
 struct Batch {
@@ -299,14 +314,15 @@ fn batch(
     s: &TaskTrainSettings,
 ) -> Batch {
     let b = samples.len();
+    let (outputs, w) = (samples[0].y.len(), samples[0].vars());
     let mut x = Vec::with_capacity(b * TASK_INPUTS);
-    let mut y = Vec::with_capacity(b * TASK_OUTPUTS);
-    let mut mask = Vec::with_capacity(b * TASK_OUTPUTS);
+    let mut y: Vec<f64> = Vec::with_capacity(b * outputs);
+    let mut mask = Vec::with_capacity(b * outputs);
     let mut digs = 0;
     for s in samples {
         x.extend(s.x);
-        y.extend(s.y);
-        mask.extend((0..TASK_OUTPUTS).map(|j| if j / VARS < s.count { 1.0 } else { 0.0 }));
+        y.extend(&s.y);
+        mask.extend((0..outputs).map(|j| if j / w < s.count { 1.0 } else { 0.0 }));
         digs += s.count;
     }
     let by_type = [DigType::Downward, DigType::Backward]
@@ -347,15 +363,15 @@ fn batch(
             .flat_map(|s| (0..DIGS).map(move |k| if k < s.count { 1.0 } else { 0.0 }))
             .collect();
         (
-            Designs::new(cfg, &tasks, s.profile_dx, device),
+            Designs::new(cfg, &tasks, s.profile_dx, w == DIG_VARS, device),
             Tensor::from_data(TensorData::new(mask, [b, DIGS]), device),
         )
     });
     Batch {
         designs,
         x: Tensor::from_data(TensorData::new(x, [b, TASK_INPUTS]), device),
-        y: Tensor::from_data(TensorData::new(y, [b, TASK_OUTPUTS]), device),
-        mask: Tensor::from_data(TensorData::new(mask, [b, TASK_OUTPUTS]), device),
+        y: Tensor::from_data(TensorData::new(y, [b, outputs]), device),
+        mask: Tensor::from_data(TensorData::new(mask, [b, outputs]), device),
         digs: digs as f64,
         by_type,
     }
@@ -397,8 +413,9 @@ fn terms(net: &TaskNet, batch: &Batch, cfg: &infer::Config, s: &TaskTrainSetting
             (zero.clone(), zero, None)
         }
     };
-    let b = u.dims()[0];
-    let per_dig = u.reshape([b * DIGS, VARS]);
+    let [b, outputs] = u.dims();
+    let w = outputs / DIGS;
+    let per_dig = u.reshape([b * DIGS, w]);
     let [t0, t1] = cfg.objective.duration;
     let device = batch.x.device();
     let mut physics = Tensor::<1>::zeros([1], &device);
@@ -406,9 +423,15 @@ fn terms(net: &TaskNet, batch: &Batch, cfg: &infer::Config, s: &TaskTrainSetting
         let d = pick.clone().matmul(per_dig.clone());
         // Box coordinates → bends in [−1, 1] rad and T in [t0, t1].
         let bends = d.clone().narrow(1, 6, 3) * 2.0 - 1.0;
-        let duration = d.narrow(1, 9, 1) * (t1 - t0) + t0;
+        let duration = d.clone().narrow(1, 9, 1) * (t1 - t0) + t0;
         let half6 = (duration.clone() / 2.0).powi_scalar(6);
-        let y = Tensor::cat(vec![bends / half6, duration], 1);
+        let mut y = vec![bends / half6, duration.clone()];
+        if w == DIG_VARS {
+            // Box coordinates → skews in ±SKEW_RANGE rad → a_i7.
+            let skews = d.narrow(1, SPEC_VARS, 3) * (2.0 * SKEW_RANGE) - SKEW_RANGE;
+            y.push(skews / (duration.powi_scalar(7) * SKEW_PEAK));
+        }
+        let y = Tensor::cat(y, 1);
         let queries = match &played_queries {
             Some(q) => pick.clone().matmul(q.clone()),
             None => queries.clone(),

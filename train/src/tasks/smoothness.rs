@@ -7,17 +7,17 @@
 //! Tasks are near by their geometry alone (not the dig count), so the
 //! figure shows the scatter the count leaves as well.
 
-use super::{TaskSample, VARS};
+use super::TaskSample;
 use serde::{Deserialize, Serialize};
 
 /// The task inputs that are its geometry (L, D, β1, β2, far edge).
 const GEOMETRY: usize = 5;
 
-/// Nearest-neighbour error / variance of each of the 10 variables, over
-/// every dig both plans of a pair have.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+/// Nearest-neighbour error / variance of each of the 10 variables (13
+/// with the skews), over every dig both plans of a pair have.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Smoothness {
-    pub ratio: [f64; VARS],
+    pub ratio: Vec<f64>,
     /// Mean of `ratio`.
     pub mean: f64,
 }
@@ -33,8 +33,9 @@ pub fn smoothness(samples: &[TaskSample]) -> Option<Smoothness> {
         let v = samples.iter().map(|s| (s.x[j] - m).powi(2)).sum::<f64>() / n;
         v.sqrt().max(1e-12)
     });
-    let mut near = [0.0; VARS];
-    let mut pairs = [0.0; VARS];
+    let vars = samples[0].vars();
+    let mut near = vec![0.0; vars];
+    let mut pairs = vec![0.0; vars];
     for (i, a) in samples.iter().enumerate() {
         let nearest = samples
             .iter()
@@ -49,17 +50,17 @@ pub fn smoothness(samples: &[TaskSample]) -> Option<Smoothness> {
             .min_by(|p, q| p.0.total_cmp(&q.0))
             .map(|(_, b)| b)?;
         for k in 0..a.count.min(nearest.count) {
-            for v in 0..VARS {
-                near[v] += (a.y[k * VARS + v] - nearest.y[k * VARS + v]).powi(2);
+            for v in 0..vars {
+                near[v] += (a.y[k * vars + v] - nearest.y[k * vars + v]).powi(2);
                 pairs[v] += 1.0;
             }
         }
     }
-    let mut ratio = [0.0; VARS];
+    let mut ratio = vec![0.0; vars];
     for (v, r) in ratio.iter_mut().enumerate() {
         let values: Vec<f64> = samples
             .iter()
-            .flat_map(|s| (0..s.count).map(move |k| s.y[k * VARS + v]))
+            .flat_map(|s| (0..s.count).map(move |k| s.y[k * vars + v]))
             .collect();
         let m = values.iter().sum::<f64>() / values.len() as f64;
         let var = values.iter().map(|x| (x - m).powi(2)).sum::<f64>() / values.len() as f64;
@@ -70,7 +71,7 @@ pub fn smoothness(samples: &[TaskSample]) -> Option<Smoothness> {
         };
     }
     Some(Smoothness {
+        mean: ratio.iter().sum::<f64>() / vars as f64,
         ratio,
-        mean: ratio.iter().sum::<f64>() / VARS as f64,
     })
 }
