@@ -169,9 +169,9 @@ impl Trajectory {
 
     /// Each joint as a polynomial in s = t/T ∈ [0, 1], constant first:
     /// θ_i = θ_s,i + Δ_i (10 s³ − 15 s⁴ + 6 s⁵) + c_i (s⁶ − 3 s⁵ + 3 s⁴ − s³)
-    /// + k_i s³ (s − 1)³ (s − ½), with c_i = a_i6 T⁶ and k_i = a_i7 T⁷, the
-    /// path's bend and skew (a stretch in time keeps both).
-    /// Speed is dθ/ds / T and acceleration d²θ/ds² / T².
+    /// plus k_i s³ (s − 1)³ (s − ½), with c_i = a_i6 T⁶ and k_i = a_i7 T⁷,
+    /// the path's bend and skew (a stretch in time keeps both). Speed is
+    /// dθ/ds / T and acceleration d²θ/ds² / T².
     pub fn unit_coefficients(&self) -> [[f64; 8]; 3] {
         core::array::from_fn(|i| {
             let (d, [c, k]) = (self.delta[i], self.unit_shape(i));

@@ -1,4 +1,5 @@
 //! Repair, task validation, the design profile and the trench planner.
+#![allow(clippy::result_large_err)] // RepairError carries the dig (with its skews) by value
 
 mod common;
 use common::{REFERENCE_Y, flat, reference_query, shipped_pair};

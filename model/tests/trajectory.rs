@@ -17,11 +17,16 @@ fn column(values: &[f64], device: &Device) -> Tensor<2> {
         .unsqueeze_dim::<2>(1)
 }
 
+/// One dig: start and end joint angles and its decision variables.
+type Dig = ([f64; 3], [f64; 3], DigParams);
+
 fn values(t: Tensor<2>) -> Vec<f64> {
     t.into_data().try_to_vec::<f64>().unwrap()
 }
 
 #[test]
+// `i` picks the joint in the paths, the jerk and the exact state alike.
+#[allow(clippy::needless_range_loop)]
 fn a_skewed_batch_matches_infer_on_the_grid() {
     let device = device(true);
     let mut rng = Rng::new(26);
@@ -41,7 +46,7 @@ fn a_skewed_batch_matches_infer_on_the_grid() {
         }
         digs.push((start, end, p));
     }
-    let col = |f: &dyn Fn(&([f64; 3], [f64; 3], DigParams)) -> f64| {
+    let col = |f: &dyn Fn(&Dig) -> f64| {
         column(&digs.iter().map(f).collect::<Vec<_>>(), &device)
     };
     let duration = col(&|d| d.2.duration);
