@@ -46,9 +46,7 @@ fn a_skewed_batch_matches_infer_on_the_grid() {
         }
         digs.push((start, end, p));
     }
-    let col = |f: &dyn Fn(&Dig) -> f64| {
-        column(&digs.iter().map(f).collect::<Vec<_>>(), &device)
-    };
+    let col = |f: &dyn Fn(&Dig) -> f64| column(&digs.iter().map(f).collect::<Vec<_>>(), &device);
     let duration = col(&|d| d.2.duration);
     let traj = Trajectory {
         start: core::array::from_fn(|i| col(&|d| d.0[i])),
