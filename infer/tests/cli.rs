@@ -48,6 +48,17 @@ fn prints_every_figure_as_text_and_json() {
     assert_eq!(v["figures"]["feasible"], true);
     assert!(v["figures"]["volume_cm3"].as_f64().unwrap() > 5600.0);
     assert_eq!(v["checks"].as_array().unwrap().len(), 16);
+    // A skew (the extension) changes the dig and is printed.
+    let out = dig(&[REFERENCE, &["--a7", "0,-2e-6,0", "--json"]].concat());
+    assert!(out.status.success());
+    let skewed: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_ne!(skewed["figures"]["volume_cm3"], v["figures"]["volume_cm3"]);
+    let out = dig(&[REFERENCE, &["--a7", "0,-2e-6,0"]].concat());
+    assert!(
+        String::from_utf8(out.stdout)
+            .unwrap()
+            .contains("a_i7 (rad/s⁷)")
+    );
 }
 
 #[test]
@@ -93,6 +104,32 @@ fn bad_input_gives_a_clear_error_and_exit_code_2() {
         (
             &["--start-pose", "3,0,0", "--end", "0,-60,-130", "-T", "7"],
             "out of the arm's reach",
+        ),
+        (
+            &[
+                "--start",
+                "10,-50,-50",
+                "--end",
+                "0,-60,-130",
+                "-T",
+                "7",
+                "--a7",
+                "0,1",
+            ],
+            "three comma-separated",
+        ),
+        (
+            &[
+                "--start",
+                "10,-50,-50",
+                "--end",
+                "0,-60,-130",
+                "-T",
+                "7",
+                "--a7",
+                "0,NaN,0",
+            ],
+            "not a finite number",
         ),
     ];
     for (args, message) in cases {

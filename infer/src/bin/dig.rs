@@ -42,6 +42,10 @@ struct Args {
     /// Path-bending coefficients a16,a26,a36 in rad/s⁶.
     #[arg(long, value_delimiter = ',', default_value = "0,0,0")]
     a6: Vec<f64>,
+    /// Skews a17,a27,a37 in rad/s⁷: the project's extension of the spec's
+    /// family (src/trajectory.rs); 0 is the spec's.
+    #[arg(long, value_delimiter = ',', default_value = "0,0,0")]
+    a7: Vec<f64>,
     /// Dig duration T in seconds.
     #[arg(long = "duration", short = 'T')]
     duration: f64,
@@ -127,13 +131,17 @@ fn run(args: Args) -> Result<(), String> {
         three(name, v)?;
     }
     three("a6", &Some(args.a6.clone()))?;
+    three("a7", &Some(args.a7.clone()))?;
     let kind: DigType = args.kind.parse().map_err(|e: infer::Error| e.to_string())?;
     let task = DigTask {
         start: joints(&cfg, &args.start, &args.start_pose)?,
         end: joints(&cfg, &args.end, &args.end_pose)?,
         kind,
     };
-    let params = DigParams::new([args.a6[0], args.a6[1], args.a6[2]], args.duration);
+    let params = DigParams {
+        a7: [args.a7[0], args.a7[1], args.a7[2]],
+        ..DigParams::new([args.a6[0], args.a6[1], args.a6[2]], args.duration)
+    };
     let surface = args.surface.unwrap_or(cfg.ground_level);
     let reach = infer::kinematics::max_reach(&cfg.machine);
     let terrain = Terrain::flat(-reach - 0.1, reach + 0.1, cfg.terrain_dx, surface)
@@ -197,6 +205,12 @@ fn run(args: Args) -> Result<(), String> {
         "a_i6 (rad/s⁶)   {:.4e} {:.4e} {:.4e}",
         params.a6[0], params.a6[1], params.a6[2]
     );
+    if params.is_skewed() {
+        println!(
+            "a_i7 (rad/s⁷)   {:.4e} {:.4e} {:.4e}",
+            params.a7[0], params.a7[1], params.a7[2]
+        );
+    }
     println!("surface H (m)   {surface:.3}");
     println!();
     println!("T (s)           {:.3}", report.duration);
