@@ -22,8 +22,8 @@ use crate::runner::{Budget, Runner};
 use infer::plan::{DigRecord, Plan};
 use infer::repair::{Assessment, DesignGuard};
 use infer::sequence::{
-    DIG_VARS, Refit, SPEC_VARS, SequenceDig, UNEVALUABLE, dig_box, initial_step, play_dig_to_beat,
-    skewed_box,
+    DIG_VARS, Refit, SPEC_VARS, SequenceDig, UNEVALUABLE, initial_step, play_dig_to_beat,
+    search_box,
 };
 use infer::{
     Config, DesignProfile, DigQuery, Outcome, PlannedDig, Planner, ProfileMetrics, Reference,
@@ -327,11 +327,10 @@ const POLISH_MIN_STEP: f64 = 1e-3;
 /// most `budget` sequence evaluations: the best point and the
 /// evaluations spent.
 fn compass(p: &mut SequenceProblem<'_>, start: Individual, budget: usize) -> (Individual, usize) {
+    let (lo, hi) = search_box(&p.cfg, &p.design, p.per_dig == DIG_VARS);
     if p.per_dig == DIG_VARS {
-        let (lo, hi) = skewed_box(&p.cfg, &p.design);
         compass_in(p, start, budget, &lo, &hi)
     } else {
-        let (lo, hi) = dig_box(&p.cfg, &p.design);
         let spec = |b: &[f64]| -> [f64; SPEC_VARS] { core::array::from_fn(|i| b[i]) };
         compass_in(p, start, budget, &spec(&lo), &spec(&hi))
     }
@@ -510,14 +509,10 @@ pub fn plan_value(plan: &Plan, weight_objective: f64) -> f64 {
     value(&plan.metrics, objective / n, weight_objective)
 }
 
-/// The variables' box for `digs` digs on `design` (each dig's is
-/// [`infer::sequence::dig_box`]).
+/// The variables' box for `digs` digs on `design` (each dig's is the
+/// first [`SequenceSettings::per_dig`] of [`infer::sequence::search_box`]).
 fn bounds(cfg: &Config, design: &DesignProfile, digs: usize, skew: bool) -> (Vec<f64>, Vec<f64>) {
-    let (lo, hi) = if skew {
-        skewed_box(cfg, design)
-    } else {
-        dig_box(cfg, design)
-    };
+    let (lo, hi) = search_box(cfg, design, skew);
     let w = if skew { DIG_VARS } else { SPEC_VARS };
     (lo[..w].repeat(digs), hi[..w].repeat(digs))
 }

@@ -26,8 +26,9 @@ pub type DigVars = [f64; DIG_VARS];
 /// a_i7 T⁷ times this.
 pub const SKEW_PEAK: f64 = 0.001_859_519_090_971_052;
 
-/// The skews' box: ±0.5 rad, wide enough for every skew the searches
-/// chose on tasks A–D (at most 0.06 rad; `dataset_gen/examples/skew_polish.rs`).
+/// The skews' box: ±0.5 rad, wide enough for every skew the sequence
+/// search chose on tasks A–D and 12 fresh tasks (mostly under 0.06 rad;
+/// `dataset_gen/scripts/skew_family.sh`).
 pub const SKEW_RANGE: f64 = 0.5;
 
 /// One dig of a sequence, decoded on the surface the digs before it left
@@ -194,4 +195,14 @@ pub fn skewed_box(cfg: &Config, design: &DesignProfile) -> (DigVars, DigVars) {
     lo[SPEC_VARS..].fill(-SKEW_RANGE);
     hi[SPEC_VARS..].fill(SKEW_RANGE);
     (lo, hi)
+}
+
+/// The box of a search with the skews free ([`skewed_box`]) or held at
+/// 0 ([`dig_box`]).
+pub fn search_box(cfg: &Config, design: &DesignProfile, skew: bool) -> (DigVars, DigVars) {
+    if skew {
+        skewed_box(cfg, design)
+    } else {
+        dig_box(cfg, design)
+    }
 }

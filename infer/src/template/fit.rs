@@ -2,11 +2,10 @@
 //! sequence; a move of dig k replays digs k.. only, on the surfaces the
 //! digs before it left.
 
-use super::learned::search_box;
 use super::search::retiming;
 use super::{Champion, Steps, TemplateSettings, TemplateWork};
 use crate::planner::Planner;
-use crate::sequence::{DigVars, Refit, compass};
+use crate::sequence::{DigVars, Refit, compass, search_box};
 
 /// The template work seen by the compass search.
 struct Refitting<'a> {

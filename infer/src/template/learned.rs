@@ -21,7 +21,7 @@ use super::{MAX_TEMPLATE_DIGS, Template};
 use crate::config::Config;
 use crate::error::Error;
 use crate::network::Network;
-use crate::sequence::{DIG_VARS, DigVars, SPEC_VARS, dig_box, features, skewed_box};
+use crate::sequence::{DIG_VARS, DigVars, SPEC_VARS, features, search_box};
 use crate::trench::{DesignProfile, TrenchTask};
 
 /// Inputs: L, D, β1, β2 and far edge ([`features`]), and the dig count.
@@ -94,16 +94,6 @@ impl<'a> TaskNetwork<'a> {
 pub fn task_inputs(task: &TrenchTask, count: usize) -> [f64; TASK_INPUTS] {
     let f = features(task);
     [f[0], f[1], f[2], f[3], f[4], count as f64]
-}
-
-/// The box of a search with the skews free ([`skewed_box`]) or held at
-/// 0 ([`dig_box`]).
-pub fn search_box(cfg: &Config, design: &DesignProfile, skew: bool) -> (DigVars, DigVars) {
-    if skew {
-        skewed_box(cfg, design)
-    } else {
-        dig_box(cfg, design)
-    }
 }
 
 /// A dig's first `w` variables ([`SPEC_VARS`] or, with the skews,

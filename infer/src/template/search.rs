@@ -3,14 +3,13 @@
 //! the bound; and the plan's phases in order.
 
 use super::learned::TaskNetwork;
-use super::learned::search_box;
 use super::{
     Champion, MAX_TEMPLATE_DIGS, Played, Steps, Template, TemplateSettings, TemplateWork, WINDOW,
     WINDOW_AFTER, WINDOW_BEFORE,
 };
 use crate::planner::{PlanError, Planner};
 use crate::sequence::MAX_NEIGHBOURS;
-use crate::sequence::{DIG_VARS, DigVars, initial_step, nearest};
+use crate::sequence::{DIG_VARS, DigVars, initial_step, nearest, search_box};
 use crate::trench::{DesignProfile, TaskError, TrenchTask};
 
 impl Champion {

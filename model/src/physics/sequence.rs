@@ -15,8 +15,7 @@ use super::relu;
 use super::trajectory::{TimeGrid, Trajectory};
 use burn::prelude::*;
 use burn::tensor::TensorData;
-use infer::sequence::{DIG_VARS, SKEW_PEAK, SPEC_VARS};
-use infer::template::learned::search_box;
+use infer::sequence::{DIG_VARS, SKEW_PEAK, SPEC_VARS, search_box};
 use infer::{Config, DesignProfile, TrenchTask};
 
 /// How far the profile grid reaches past the design's near and far top
@@ -27,7 +26,7 @@ const GRID_MARGIN: [f64; 2] = [0.6, 0.1];
 /// A batch of tasks to play plans on.
 #[derive(Debug, Clone)]
 pub struct Designs {
-    /// Each task's dig box (`infer::template::learned::search_box`), low
+    /// Each task's dig box (`infer::sequence::search_box`), low
     /// and high corners, `[B, W]` each: W = 10, or 13 with the skews.
     pub lo: Tensor<2>,
     pub hi: Tensor<2>,
