@@ -142,17 +142,30 @@ impl JointExtrema {
             let speed = angle.derivative();
             let accel = speed.derivative();
             let jerk = accel.derivative();
-            // A = 30Δ − 3c = 3 (10Δ − c + k/2) − 1.5k from the s³ coefficient,
-            // B = 6c from the s⁶ one (c − 3.5k); k = 0 outside the extension.
+            // A = 30Δ − 3c = 3 (10Δ − c), three times the s³ coefficient; B = 6c
+            // from the s⁶ one (less the skew k's share of both).
             let k = traj.unit_shape(i)[1];
-            let (a, b) = (3.0 * c[3] - 1.5 * k, 6.0 * c[6] + 21.0 * k);
-            let angle_factor = Poly::from_array([a + 1.5 * k, b - 7.0 * k, 7.0 * k]);
-            let speed_factor = Poly::from_array([
-                2.0 * a + 3.0 * k,
-                3.0 * b - 4.0 * a - 27.0 * k,
-                -5.0 * b + 63.0 * k,
-                -42.0 * k,
-            ]);
+            let (a, b) = if k == 0.0 {
+                (3.0 * c[3], 6.0 * c[6])
+            } else {
+                (3.0 * (c[3] - 0.5 * k), 6.0 * (c[6] + 3.5 * k))
+            };
+            let (angle_factor, speed_factor) = if k == 0.0 {
+                (
+                    Poly::from_array([a, b]),
+                    Poly::from_array([2.0 * a, 3.0 * b - 4.0 * a, -5.0 * b]),
+                )
+            } else {
+                (
+                    Poly::from_array([a + 1.5 * k, b - 7.0 * k, 7.0 * k]),
+                    Poly::from_array([
+                        2.0 * a + 3.0 * k,
+                        3.0 * b - 4.0 * a - 27.0 * k,
+                        -5.0 * b + 63.0 * k,
+                        -42.0 * k,
+                    ]),
+                )
+            };
             let candidates = angle_factor.roots_and_critical(0.0, 1.0);
             out.angle[i] = span(&angle, 1.0, big_t, &candidates);
             let scale = [1.0 / big_t, 1.0 / (big_t * big_t)];

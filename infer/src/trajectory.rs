@@ -82,6 +82,10 @@ pub struct Trajectory {
     duration: f64,
 }
 
+/// s³ (s − 1)³ (s − ½) = 0.5 s³ − 2.5 s⁴ + 4.5 s⁵ − 3.5 s⁶ + s⁷: the
+/// skew's shape in s, from s³ up.
+pub const SKEW_SHAPE: [f64; 5] = [0.5, -2.5, 4.5, -3.5, 1.0];
+
 impl Trajectory {
     /// Builds the trajectory from start to end joint angles \[rad\].
     pub fn new(start: &[f64; 3], end: &[f64; 3], params: &DigParams) -> Result<Self, Error> {
@@ -122,17 +126,30 @@ impl Trajectory {
         let b = u * u * u;
         let bd = 3.0 * u * u * ud;
         let bdd = 6.0 * u * (ud * ud + u);
-        // Skew term r(t) = b w with w = t − T/2: r' = b' w + b, r'' = b'' w + 2 b'.
-        let w = t - 0.5 * big_t;
-        let (r, rd, rdd) = (b * w, bd * w + b, bdd * w + 2.0 * bd);
         let mut st = JointState::default();
         for i in 0..3 {
-            let (a6, a7) = (self.a6[i], self.a7[i]);
-            st.q[i] = self.start[i] + self.delta[i] * p + a6 * b + a7 * r;
-            st.qd[i] = self.delta[i] * pd + a6 * bd + a7 * rd;
-            st.qdd[i] = self.delta[i] * pdd + a6 * bdd + a7 * rdd;
+            st.q[i] = self.start[i] + self.delta[i] * p + self.a6[i] * b;
+            st.qd[i] = self.delta[i] * pd + self.a6[i] * bd;
+            st.qdd[i] = self.delta[i] * pdd + self.a6[i] * bdd;
+        }
+        // Only a skewed dig adds the skew, so the spec's family keeps its
+        // bits (a sign of zero included).
+        if self.is_skewed() {
+            // Skew term r(t) = b w with w = t − T/2: r' = b' w + b, r'' = b'' w + 2 b'.
+            let w = t - 0.5 * big_t;
+            let (r, rd, rdd) = (b * w, bd * w + b, bdd * w + 2.0 * bd);
+            for i in 0..3 {
+                st.q[i] += self.a7[i] * r;
+                st.qd[i] += self.a7[i] * rd;
+                st.qdd[i] += self.a7[i] * rdd;
+            }
         }
         st
+    }
+
+    /// Whether a joint has a skew a_i7 ≠ 0.
+    pub fn is_skewed(&self) -> bool {
+        self.a7.iter().any(|&a| a != 0.0)
     }
 
     /// Joint jerk at t = 0, θ⃛_i(0) = 6 a_i3 = 60 Δ_i / T³ − 6 a_i6 T³ + 3 a_i7 T⁴
@@ -140,10 +157,13 @@ impl Trajectory {
     /// initial direction of motion.
     pub fn initial_jerk(&self) -> [f64; 3] {
         let t3 = self.duration * self.duration * self.duration;
-        let t4 = t3 * self.duration;
-        core::array::from_fn(|i| {
-            60.0 * self.delta[i] / t3 - 6.0 * self.a6[i] * t3 + 3.0 * self.a7[i] * t4
-        })
+        let spec = |i: usize| 60.0 * self.delta[i] / t3 - 6.0 * self.a6[i] * t3;
+        if self.is_skewed() {
+            let t4 = t3 * self.duration;
+            core::array::from_fn(|i| spec(i) + 3.0 * self.a7[i] * t4)
+        } else {
+            core::array::from_fn(spec)
+        }
     }
 
     /// Power-basis coefficients a_i0 … a_i7 of each joint, θ_i(t) = Σ_k a_ik t^k.
@@ -154,16 +174,23 @@ impl Trajectory {
         let (t2, t3) = (t * t, t * t * t);
         core::array::from_fn(|i| {
             let (d, a6, a7) = (self.delta[i], self.a6[i], self.a7[i]);
-            [
+            let mut c = [
                 self.start[i],
                 0.0,
                 0.0,
-                10.0 * d / t3 - a6 * t3 + 0.5 * a7 * t3 * t,
-                -15.0 * d / (t3 * t) + 3.0 * a6 * t2 - 2.5 * a7 * t3,
-                6.0 * d / (t3 * t2) - 3.0 * a6 * t + 4.5 * a7 * t2,
-                a6 - 3.5 * a7 * t,
-                a7,
-            ]
+                10.0 * d / t3 - a6 * t3,
+                -15.0 * d / (t3 * t) + 3.0 * a6 * t2,
+                6.0 * d / (t3 * t2) - 3.0 * a6 * t,
+                a6,
+                0.0,
+            ];
+            if a7 != 0.0 {
+                let skew = [0.5 * t3 * t, -2.5 * t3, 4.5 * t2, -3.5 * t, 1.0];
+                for (c, s) in c[3..].iter_mut().zip(skew) {
+                    *c += a7 * s;
+                }
+            }
+            c
         })
     }
 
@@ -175,16 +202,22 @@ impl Trajectory {
     pub fn unit_coefficients(&self) -> [[f64; 8]; 3] {
         core::array::from_fn(|i| {
             let (d, [c, k]) = (self.delta[i], self.unit_shape(i));
-            [
+            let mut u = [
                 self.start[i],
                 0.0,
                 0.0,
-                10.0 * d - c + 0.5 * k,
-                -15.0 * d + 3.0 * c - 2.5 * k,
-                6.0 * d - 3.0 * c + 4.5 * k,
-                c - 3.5 * k,
-                k,
-            ]
+                10.0 * d - c,
+                -15.0 * d + 3.0 * c,
+                6.0 * d - 3.0 * c,
+                c,
+                0.0,
+            ];
+            if k != 0.0 {
+                for (u, s) in u[3..].iter_mut().zip(SKEW_SHAPE) {
+                    *u += k * s;
+                }
+            }
+            u
         })
     }
 
