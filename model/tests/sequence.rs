@@ -3,7 +3,8 @@
 //! exact model, must leave the same under- and over-dug area and take the
 //! same area per dig. Plans: the shipped library sample, as stored and
 //! moved at random within ±0.05 of their box (digs the model may reject:
-//! carving does not ask), in the spec's box and with the skews free.
+//! carving does not ask), in the spec's box (their skews dropped) and with
+//! the skews free.
 
 mod common;
 

@@ -66,7 +66,7 @@ impl TaskTrainReport {
             let ratios: Vec<String> = sm.ratio.iter().map(|r| format!("{r:.2}")).collect();
             let _ = writeln!(
                 out,
-                "Library smoothness (nearest task's plan: squared difference / variance, per variable type, start x, chord, end lift, ζs, ζe, b1–b3, T; 0 = neighbours agree, 2 = unrelated): {} (mean {:.2}).\n",
+                "Library smoothness (nearest task's plan: squared difference / variance, per variable type, start x, chord, end lift, ζs, ζe, b1–b3, T (and the skews k1–k3 of a skewed library); 0 = neighbours agree, 2 = unrelated): {} (mean {:.2}).\n",
                 ratios.join(", "),
                 sm.mean
             );
@@ -95,7 +95,7 @@ impl TaskTrainReport {
         }
         let _ = writeln!(
             out,
-            "\nData: mean over digs of the squared error of the 10 normalised box coordinates. Physics: mean over digs of the motion checks' penalty with the margin, each dig's query from its predicted poses on the surface the predicted plan leaves (from the library's dig when the profile weight is 0). Profile: the predicted plan carved on the surface, under- plus over-dug area as a fraction of the design's, mean over tasks. Fill: each predicted dig's carved volume beyond V_min or V_max, normalised by their gap, with the margin, mean over digs. Each seed keeps the network of the epoch with the least validation total (data + weights × the other terms). Loss curves: `loss.svg`. Quality on tasks: `eval learned`."
+            "\nData: mean over digs of the squared error of the normalised box coordinates (10, or 13 with the skews). Physics: mean over digs of the motion checks' penalty with the margin, each dig's query from its predicted poses on the surface the predicted plan leaves (from the library's dig when the profile weight is 0). Profile: the predicted plan carved on the surface, under- plus over-dug area as a fraction of the design's, mean over tasks. Fill: each predicted dig's carved volume beyond V_min or V_max, normalised by their gap, with the margin, mean over digs. Each seed keeps the network of the epoch with the least validation total (data + weights × the other terms). Loss curves: `loss.svg`. Quality on tasks: `eval learned`."
         );
         out
     }
