@@ -6,11 +6,12 @@
 //! plan stretched to the new one, so far from the library's tasks it
 //! seeds the refit badly; a network trained on the whole library
 //! interpolates between its tasks. The output is each dig's variables in
-//! the task's own search box ([`dig_box`]), u = (v − lo) / (hi − lo), so
-//! start x and the rest scale with the design as the box does. A network
+//! the task's own search box ([`crate::sequence::dig_box`]),
+//! u = (v − lo) / (hi − lo), so start x and the rest scale with the design
+//! as the box does. A network
 //! trained on a library of the spec's family gives [`SPEC_VARS`] per dig;
 //! one trained on skewed plans gives the skews too ([`DIG_VARS`], box
-//! [`skewed_box`]), and the refit then moves them.
+//! [`crate::sequence::skewed_box`]), and the refit then moves them.
 //!
 //! The dig count is an input: one library plan in six has a dig fewer or
 //! more than [`crate::Planner::digs_for`] expects, and a 2-dig plan's first
