@@ -68,7 +68,9 @@ fn run(library: &Path, network: &Path, out: &Path) -> Result<usize, String> {
                 .predict(planner.config(), &plan.task, &design, plan.digs.len())
                 .ok()
                 .and_then(|t| {
-                    let init = t.digs().concat();
+                    // As many variables a dig as the library searches.
+                    let w = search.per_dig();
+                    let init: Vec<f64> = t.digs().iter().flat_map(|d| &d[..w]).copied().collect();
                     optimise_near(
                         &planner,
                         &plan.task,
