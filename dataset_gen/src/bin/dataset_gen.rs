@@ -585,6 +585,7 @@ fn main_inner() -> Result<(), Error> {
             let settings = SequenceSettings {
                 polish: budget,
                 weight_objective,
+                skew: lib.skew,
                 ..SequenceSettings::default()
             };
             let (refits, best) =

@@ -7,6 +7,10 @@ use super::*;
 pub struct Library {
     pub plans: Vec<(PathBuf, Plan)>,
     pub ranges: RandomRanges,
+    /// Whether its plans were searched with the skews
+    /// ([`crate::sequence::SequenceSettings::skew`]): a refit from them
+    /// searches the skews too.
+    pub skew: bool,
 }
 
 impl Library {
@@ -47,6 +51,7 @@ impl Library {
         Ok(Library {
             plans,
             ranges: settings.ranges,
+            skew: settings.sequence.skew,
         })
     }
 

@@ -77,6 +77,7 @@ pub(super) fn load_anchors(
     Ok(Library {
         plans,
         ranges: settings.ranges,
+        skew: settings.sequence.skew,
     })
 }
 
