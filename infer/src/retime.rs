@@ -156,6 +156,7 @@ pub fn best_stretch(
         a: &a,
         guard,
         duration: params.duration,
+        skewed: params.is_skewed(),
     };
     let stretch = search(&dig, &work.samples[..n], false);
     Ok((a, stretch))
@@ -222,6 +223,7 @@ pub fn record_fastest(
         a: &a,
         guard,
         duration: fastest.duration,
+        skewed: fastest.is_skewed(),
     };
     let records = &work.samples[..n];
     let further = search(&dig, records, true);
@@ -288,6 +290,8 @@ struct Dig<'a> {
     a: &'a Assessment,
     guard: Option<&'a DesignGuard>,
     duration: f64,
+    /// Whether it has a skew (its power margin: `limits::power_margin`).
+    skewed: bool,
 }
 
 impl Dig<'_> {
@@ -321,7 +325,7 @@ impl Stretchable<3> for Dig<'_> {
     }
 
     fn drive_limits(&self) -> DriveLimits<3> {
-        let (torque, power) = drive_limits(self.cfg);
+        let (torque, power) = drive_limits(self.cfg, self.skewed);
         DriveLimits {
             effort: [[-torque, torque]; 3],
             power: [f64::INFINITY; 3],
