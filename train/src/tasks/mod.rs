@@ -8,9 +8,10 @@
 //!   out);
 //! - physics: every predicted dig's motion checks under the tensor physics
 //!   (`model::physics::motion_penalty`), its Y = [a16, a26, a36, T] taken
-//!   from the predicted bends and T (and a_i7 from the skews), its query (joint angles at start and
-//!   end, and H) from its predicted poses on the surface the predicted
-//!   digs before it left (the played plan below); with the profile term
+//!   from the predicted bends and T (and a_i7 from the skews), its query
+//!   (joint angles at start and end, and H) from its predicted poses on
+//!   the surface the predicted digs before it left (the played plan
+//!   below); with the profile term
 //!   off, from the library plan's dig (teacher forcing). Its dig type is
 //!   the library dig's;
 //! - profile: the predicted plan played on the surface
@@ -295,9 +296,8 @@ fn normalisation(train: &[&TaskSample]) -> TaskNormalisation {
 /// A batch on `device`: X [B, 6], box coordinates [B, 6·W] (W variables
 /// per dig), the mask of the digs each plan has [B, 6·W], per dig type the
 /// one-hot rows that pick its digs out of the [B·6, W] predictions with
-/// their queries, and
-/// (when the profile is weighed) the tasks' designs with the mask of
-/// digs [B, 6].
+/// their queries, and (when the profile is weighed) the tasks' designs
+/// with the mask of digs [B, 6].
 struct Batch {
     x: Tensor<2>,
     y: Tensor<2>,
