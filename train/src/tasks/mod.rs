@@ -11,9 +11,8 @@
 //!   from the predicted bends and T (and a_i7 from the skews), its query
 //!   (joint angles at start and end, and H) from its predicted poses on
 //!   the surface the predicted digs before it left (the played plan
-//!   below); with the profile term
-//!   off, from the library plan's dig (teacher forcing). Its dig type is
-//!   the library dig's;
+//!   below); with the profile term off, from the library plan's dig
+//!   (teacher forcing). Its dig type is the library dig's;
 //! - profile: the predicted plan played on the surface
 //!   (`model::physics::sequence`: each dig from the surface the earlier
 //!   ones left, carved as `infer` carves), its under- plus over-dug area
