@@ -6,7 +6,8 @@
 //! dragged from the foot of a face later). This module searches that: the
 //! variables of dig k are its type, start x on the surface the digs before
 //! it left, chord, end lift, start and end bucket attitude ζ, the three
-//! bends and T; the objective is the under- plus over-dug fraction of the
+//! bends and T (and with [`SequenceSettings::skew`] the three skews of the
+//! extended dig family); the objective is the under- plus over-dug fraction of the
 //! final surface; every dig must be feasible under the exact model and
 //! within the planner's design guard (Deb's rules, as for single digs). It
 //! costs seconds per task, not the planner's milliseconds: it is the
