@@ -54,7 +54,8 @@ pub extern "C" fn infer_template_task_a_digs() -> i32 {
     let cfg = Config::default();
     let Ok(planner) = infer::Planner::new(&cfg, &infer::PlannerSettings::default()) else { return -1 };
     let Some(task) = infer::TrenchTask::reference('A') else { return -1 };
-    let dig = [0.25, 1.04, 0.3, 0.05, infer::deg(-90.0), infer::deg(160.0), 0.0, 0.0, 0.0, 7.0];
+    // Ten spec variables, then the three skews (0: the spec's family).
+    let dig = [0.25, 1.04, 0.3, 0.05, infer::deg(-90.0), infer::deg(160.0), 0.0, 0.0, 0.0, 7.0, 0.0, 0.0, 0.0];
     let Ok(template) = infer::Template::new(task, &[dig, dig]) else { return -1 };
     let Ok(mut work) = infer::TemplateWork::new(&planner) else { return -1 };
     let settings = infer::TemplateSettings { max_evaluations: 100, ..Default::default() };
