@@ -165,17 +165,14 @@ impl JointExtrema {
             // A = 30Δ − 3c = 3 (10Δ − c), three times the s³ coefficient; B = 6c
             // from the s⁶ one (less the skew k's share of both).
             let k = traj.unit_shape(i)[1];
-            let (a, b) = if k == 0.0 {
-                (3.0 * c[3], 6.0 * c[6])
-            } else {
-                (3.0 * (c[3] - 0.5 * k), 6.0 * (c[6] + 3.5 * k))
-            };
             let (angle_factor, speed_factor) = if k == 0.0 {
+                let (a, b) = (3.0 * c[3], 6.0 * c[6]);
                 (
                     Poly::from_array([a, b]),
                     Poly::from_array([2.0 * a, 3.0 * b - 4.0 * a, -5.0 * b]),
                 )
             } else {
+                let (a, b) = (3.0 * (c[3] - 0.5 * k), 6.0 * (c[6] + 3.5 * k));
                 (
                     Poly::from_array([a + 1.5 * k, b - 7.0 * k, 7.0 * k]),
                     Poly::from_array([
