@@ -15,8 +15,10 @@
 //!
 //! antisymmetric about mid-dig and with the same triple roots, so the
 //! boundary conditions still hold; it moves the bend earlier or later (and
-//! out of the plane of Δ and a_6). a_7 = 0 is the spec's family exactly,
-//! and every network and dataset stays in it (`DigParams::new`).
+//! out of the plane of Δ and a_6). a_7 = 0 is the spec's family exactly
+//! (`DigParams::new`), computed without the skew's terms; the dig networks
+//! and single-dig datasets stay in it, the plan library and task networks
+//! use the skews where built with them (`infer/README.md`, "The skew").
 
 use crate::error::{Error, ensure_finite};
 use serde::{Deserialize, Serialize};
@@ -149,7 +151,7 @@ impl Trajectory {
 
     /// Whether a joint has a skew a_i7 ≠ 0.
     pub fn is_skewed(&self) -> bool {
-        self.a7.iter().any(|&a| a != 0.0)
+        !is_zero(&self.a7)
     }
 
     /// Joint jerk at t = 0, θ⃛_i(0) = 6 a_i3 = 60 Δ_i / T³ − 6 a_i6 T³ + 3 a_i7 T⁴
