@@ -24,7 +24,7 @@ use infer::plan::{DigRecord, Plan};
 use infer::repair::{Assessment, DesignGuard};
 use infer::sequence::{
     DIG_VARS, Refit, SPEC_VARS, SequenceDig, UNEVALUABLE, initial_step, play_dig_to_beat,
-    search_box,
+    search_box, vars_per_dig,
 };
 use infer::{
     Config, DesignProfile, DigQuery, Outcome, PlannedDig, Planner, ProfileMetrics, Reference,
@@ -124,7 +124,7 @@ impl SequenceSettings {
     /// Variables per dig: type, start x, chord, end lift, start ζ, end ζ,
     /// b1–b3, T, and with [`Self::skew`] k1–k3.
     pub fn per_dig(&self) -> usize {
-        if self.skew { DIG_VARS } else { SPEC_VARS }
+        vars_per_dig(self.skew)
     }
 
     /// Sequences evaluated per task (for progress bars).
@@ -514,7 +514,7 @@ pub fn plan_value(plan: &Plan, weight_objective: f64) -> f64 {
 /// first [`SequenceSettings::per_dig`] of [`infer::sequence::search_box`]).
 fn bounds(cfg: &Config, design: &DesignProfile, digs: usize, skew: bool) -> (Vec<f64>, Vec<f64>) {
     let (lo, hi) = search_box(cfg, design, skew);
-    let w = if skew { DIG_VARS } else { SPEC_VARS };
+    let w = vars_per_dig(skew);
     (lo[..w].repeat(digs), hi[..w].repeat(digs))
 }
 

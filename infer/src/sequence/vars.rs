@@ -22,6 +22,12 @@ pub const DIG_VARS: usize = SPEC_VARS + 3;
 /// One dig as sequence variables.
 pub type DigVars = [f64; DIG_VARS];
 
+/// Variables per dig a search, file or network holds: [`DIG_VARS`] with
+/// the skews, else [`SPEC_VARS`].
+pub const fn vars_per_dig(skew: bool) -> usize {
+    if skew { DIG_VARS } else { SPEC_VARS }
+}
+
 /// Largest |s³ (s − 1)³ (s − ½)| on [0, 1], (3/14)³ / √28: a skew is
 /// a_i7 T⁷ times this.
 pub const SKEW_PEAK: f64 = 0.001_859_519_090_971_052;

@@ -304,7 +304,7 @@ impl TryFrom<TemplateRecord> for Template {
 #[cfg(feature = "std")]
 impl From<Template> for TemplateRecord {
     fn from(t: Template) -> Self {
-        let w = if t.skewed() { DIG_VARS } else { SPEC_VARS };
+        let w = crate::sequence::vars_per_dig(t.skewed());
         TemplateRecord {
             task: t.task,
             digs: t.digs().iter().map(|d| d[..w].to_vec()).collect(),

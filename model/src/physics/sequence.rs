@@ -15,7 +15,7 @@ use super::relu;
 use super::trajectory::{TimeGrid, Trajectory};
 use burn::prelude::*;
 use burn::tensor::TensorData;
-use infer::sequence::{DIG_VARS, SKEW_PEAK, SPEC_VARS, search_box};
+use infer::sequence::{DIG_VARS, SKEW_PEAK, SPEC_VARS, search_box, vars_per_dig};
 use infer::{Config, DesignProfile, TrenchTask};
 
 /// How far the profile grid reaches past the design's near and far top
@@ -46,7 +46,7 @@ impl Designs {
     /// many nodes as the longest task needs), their boxes with the skews
     /// if `skew`.
     pub fn new(cfg: &Config, tasks: &[TrenchTask], dx: f64, skew: bool, device: &Device) -> Self {
-        let w = if skew { DIG_VARS } else { SPEC_VARS };
+        let w = vars_per_dig(skew);
         let profiles: Vec<DesignProfile> =
             tasks.iter().map(|t| DesignProfile::new(cfg, t)).collect();
         let span = profiles

@@ -32,7 +32,7 @@ use burn::optim::{AdamConfig, GradientsParams};
 use burn::prelude::*;
 use burn::tensor::TensorData;
 use dataset_gen::jobs::progress_bar;
-use infer::sequence::{DIG_VARS, SKEW_PEAK, SKEW_RANGE, SPEC_VARS};
+use infer::sequence::{DIG_VARS, SKEW_PEAK, SKEW_RANGE, SPEC_VARS, vars_per_dig};
 use infer::template::Template;
 use infer::template::learned::{TASK_INPUTS, box_coordinates, task_inputs};
 use infer::{DigType, Planner, TrenchTask};
@@ -105,11 +105,7 @@ pub fn load_library(
             Err(e) => skipped.plans.push((name, e.to_string())),
         }
     }
-    let w = if templates.iter().any(|(_, _, t)| t.skewed()) {
-        DIG_VARS
-    } else {
-        SPEC_VARS
-    };
+    let w = vars_per_dig(templates.iter().any(|(_, _, t)| t.skewed()));
     let mut samples = Vec::with_capacity(templates.len());
     for (index, plan, template) in templates {
         let mut y = vec![0.0; DIGS * w];
