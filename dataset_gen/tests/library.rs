@@ -249,3 +249,47 @@ fn a_chained_library_resumes_to_the_same_plans_and_refuses_shards() {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
+
+/// A warm search keeps its start's dig count: a task whose count no
+/// earlier plan has is searched cold, and later tasks of that count start
+/// from it, so every plan has the count its task needs.
+#[test]
+fn a_task_of_a_new_dig_count_is_searched_cold() {
+    let p = planner();
+    let settings = LibrarySettings {
+        tasks: 4,
+        // Tasks 1–4 need 1, 2, 2 and 1 digs.
+        seed: 15,
+        ranges: RandomRanges {
+            length: [0.28, 0.60],
+            ..small().ranges
+        },
+        // Two-dig sequences need more search than one-dig ones.
+        sequence: SequenceSettings {
+            population: 20,
+            iterations: 300,
+            restarts: 2,
+            polish: 2000,
+            ..SequenceSettings::default()
+        },
+        anchors: Some(1),
+        warm: WarmSettings {
+            chain: true,
+            neighbours: 1,
+            iterations: 60,
+            polish: 600,
+            ..small().warm
+        },
+        ..small()
+    };
+    let dir = temp_dir("new-count");
+    let report = build(&p, &settings, &dir, None).unwrap();
+    assert_eq!(report.written, 4, "{report:?}");
+    // Task 2, the first of two digs (task 4's warm search may fail too).
+    assert!(report.searched_cold.contains(&1), "{report:?}");
+    for i in 0..4 {
+        let plan = plan_at(&dir, i);
+        assert_eq!(plan.digs.len(), p.digs_for(&plan.task).unwrap(), "task {i}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

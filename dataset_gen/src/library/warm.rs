@@ -83,8 +83,8 @@ pub(super) fn load_anchors(
 
 /// A warm task's plan: the best of the searches near its nearest
 /// anchors' plans (in parallel, each seeded from the task and the
-/// neighbour's rank), or why none found a feasible one (a `BadProblem`,
-/// recorded as a failure).
+/// neighbour's rank), or why none found a feasible one or no anchor has
+/// the task's dig count (a `BadProblem`: the task is then searched cold).
 pub(super) fn warm_task(
     planner: &Planner,
     settings: &LibrarySettings,
@@ -96,6 +96,14 @@ pub(super) fn warm_task(
     let digs = planner
         .digs_for(task)
         .map_err(|e| Error::BadArgument(e.to_string()))?;
+    // A warm search keeps its start's dig count, so from plans of fewer
+    // digs it could only leave material: the first task of a new count is
+    // searched cold, and later ones start from it.
+    if !anchors.plans.iter().any(|(_, p)| p.digs.len() == digs) {
+        return Err(Error::BadProblem(format!(
+            "no plan of {digs} digs to start from"
+        )));
+    }
     let design = DesignProfile::new(planner.config(), task);
     let search = settings.warm_search();
     let results = anchors
