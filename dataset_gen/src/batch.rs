@@ -73,6 +73,11 @@ impl GenConfig {
                 "samples per type must be at least 1".into(),
             ));
         }
+        if self.bounds.skew != 0.0 {
+            return Err(Error::BadArgument(
+                "a dig dataset holds Y = [a16, a26, a36, T], the spec's family: bounds.skew must be 0".into(),
+            ));
+        }
         Ok(())
     }
 
@@ -110,13 +115,11 @@ pub fn generate_sample(
             &cfg.bounds,
             crate::dig_problem::DigObjective::Weighted,
         )?;
-        p.trajectory(&infer::DigParams::from_array(sol.y))
-            .ok()
-            .map(|v| {
-                v.iter()
-                    .map(|s| TrajectorySample::from_sample(index, s))
-                    .collect()
-            })
+        p.trajectory(&sol.params()).ok().map(|v| {
+            v.iter()
+                .map(|s| TrajectorySample::from_sample(index, s))
+                .collect()
+        })
     } else {
         None
     };

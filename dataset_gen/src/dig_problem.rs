@@ -7,6 +7,12 @@
 //! whenever T changes (a_i6 ∝ T⁻⁶), which couples the variables badly; in
 //! b_i shape and timing are independent and every variable is O(1).
 //!
+//! With [`DigBounds::skew`] > 0 the problem searches the extended family
+//! (`infer::trajectory`'s skews) too: Y gains a_17..a_37, searched as the
+//! skews k_i = a_i7 T⁷ · `SKEW_PEAK` \[rad\] (the angle by which each moves
+//! its joint, as the sequence search has them), seven variables in all.
+//! What the planner's skewed digs are compared with.
+//!
 //! Bounds (documented defaults, [`DigBounds::default`]):
 //! * |b_i| ≤ 1 rad (57°) per joint. In the default PSO dataset (3,600
 //!   optimised digs) the largest optimal bends were 0.40, 0.71 and 0.33 rad,
@@ -51,6 +57,14 @@ pub struct DigBounds {
     pub bend_max: [f64; 3],
     /// T range \[s\].
     pub duration: [f64; 2],
+    /// |k_i| ≤ skew \[rad\]; 0 (the default) is the spec's family, four
+    /// variables.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub skew: f64,
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 impl Default for DigBounds {
@@ -58,6 +72,7 @@ impl Default for DigBounds {
         DigBounds {
             bend_max: [1.0; 3],
             duration: [5.0, 10.0],
+            skew: 0.0,
         }
     }
 }
@@ -144,18 +159,28 @@ impl DigProblem {
                 "the duration bound must be positive".into(),
             ));
         }
-        let lo = vec![
+        if !(bounds.skew >= 0.0 && bounds.skew.is_finite()) {
+            return Err(Error::BadProblem(format!(
+                "the skew bound must be finite and ≥ 0, not {}",
+                bounds.skew
+            )));
+        }
+        let mut lo = vec![
             -bounds.bend_max[0],
             -bounds.bend_max[1],
             -bounds.bend_max[2],
             bounds.duration[0],
         ];
-        let hi = vec![
+        let mut hi = vec![
             bounds.bend_max[0],
             bounds.bend_max[1],
             bounds.bend_max[2],
             bounds.duration[1],
         ];
+        if bounds.skew > 0.0 {
+            lo.extend([-bounds.skew; 3]);
+            hi.extend([bounds.skew; 3]);
+        }
         Ok(DigProblem {
             cfg: *cfg,
             task: *task,
@@ -178,21 +203,32 @@ impl DigProblem {
         self
     }
 
-    /// Y = [a16, a26, a36, T] from the optimiser's variables [b1, b2, b3, T].
+    /// Y = [a16, a26, a36, T] from the optimiser's variables [b1, b2, b3,
+    /// T], and a_17..a_37 from the skews [k1, k2, k3] that follow if the
+    /// problem has them.
     pub fn to_params(x: &[f64]) -> DigParams {
         let half6 = (x[3] / 2.0).powi(6);
-        DigParams::new([x[0] / half6, x[1] / half6, x[2] / half6], x[3])
+        let p = DigParams::new([x[0] / half6, x[1] / half6, x[2] / half6], x[3]);
+        match x.get(4..7) {
+            Some(k) if k.iter().any(|&k| k != 0.0) => infer::sequence::with_skews(&p, k),
+            _ => p,
+        }
     }
 
-    /// The optimiser's variables for Y.
+    /// The optimiser's variables for Y: four, and the three skews if Y
+    /// has any.
     pub fn from_params(p: &DigParams) -> Vec<f64> {
         let half6 = (p.duration / 2.0).powi(6);
-        vec![
+        let mut x = vec![
             p.a6[0] * half6,
             p.a6[1] * half6,
             p.a6[2] * half6,
             p.duration,
-        ]
+        ];
+        if p.is_skewed() {
+            x.extend(infer::sequence::skews_of(p));
+        }
+        x
     }
 
     /// Full evaluation of one dig under the exact model.
@@ -247,7 +283,7 @@ impl DigProblem {
 
 impl Problem for DigProblem {
     fn dim(&self) -> usize {
-        4
+        self.lo.len()
     }
 
     fn bounds(&self) -> (&[f64], &[f64]) {
@@ -341,6 +377,8 @@ impl Problem for DigProblem {
 pub struct DigSolution {
     /// Y = [a16, a26, a36, T].
     pub y: [f64; 4],
+    /// a_17..a_37: zero unless the problem searched the skews.
+    pub a7: [f64; 3],
     /// Every figure of the chosen dig under the exact model (`None` only if
     /// the model could not evaluate any point the optimiser tried).
     pub report: Option<DigReport>,
@@ -363,6 +401,14 @@ impl DigSolution {
     /// The weighted objective (+∞ when the dig could not be evaluated).
     pub fn objective(&self) -> f64 {
         self.report.map_or(f64::INFINITY, |r| r.objective)
+    }
+
+    /// The chosen dig's parameters, its skews included.
+    pub fn params(&self) -> DigParams {
+        DigParams {
+            a7: self.a7,
+            ..DigParams::from_array(self.y)
+        }
     }
 }
 
@@ -434,6 +480,7 @@ pub fn solve_problem(
     };
     Ok(DigSolution {
         y: params.to_array(),
+        a7: params.a7,
         report: assessed.map(|a| a.report),
         within_guard,
         iterations: run.iterations,

@@ -232,3 +232,12 @@ fn bad_shard_specs_are_rejected() {
     }
     assert_eq!("3/4".parse::<Shard>().unwrap(), Shard { k: 3, n: 4 });
 }
+
+/// A dig dataset holds Y of the spec's family: a skew bound is refused.
+#[test]
+fn a_dataset_with_skews_is_refused() {
+    let mut c = cfg();
+    c.bounds.skew = 0.5;
+    let e = c.validate().unwrap_err();
+    assert!(e.to_string().contains("skew"), "{e}");
+}

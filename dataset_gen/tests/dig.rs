@@ -341,3 +341,64 @@ fn stopping_hopeless_evaluations_changes_no_run() {
         }
     }
 }
+
+/// With a skew bound the problem searches the extended family: seven
+/// variables, zero skews are the spec's dig to the bit, the answer carries
+/// its skews, and PSO then does at least as well as in the spec's family
+/// on the example dig (the family contains it).
+#[test]
+fn a_skew_bound_searches_the_extended_family() {
+    let (cfg, q) = example();
+    let bounds = DigBounds {
+        skew: 0.5,
+        ..DigBounds::default()
+    };
+    let p = DigProblem::new(&cfg, &q, &bounds, DigObjective::Weighted).unwrap();
+    assert_eq!(p.dim(), 7);
+    let (lo, hi) = p.bounds();
+    assert_eq!((lo[6], hi[6]), (-0.5, 0.5));
+
+    let spec = [0.1, -0.2, 0.05, 7.5];
+    let plain = DigProblem::to_params(&spec);
+    assert_eq!(
+        DigProblem::to_params(&[0.1, -0.2, 0.05, 7.5, 0.0, 0.0, 0.0]),
+        plain
+    );
+    let skewed = DigProblem::to_params(&[0.1, -0.2, 0.05, 7.5, 0.02, -0.01, 0.0]);
+    assert!(skewed.is_skewed() && skewed.a6 == plain.a6);
+    let back = DigProblem::from_params(&skewed);
+    assert_eq!(back.len(), 7);
+    assert!((back[4] - 0.02).abs() < 1e-12 && (back[5] + 0.01).abs() < 1e-12);
+
+    let pso = AnyAlgorithm::by_name("pso", 50).unwrap();
+    let solved = |b: &DigBounds| {
+        solve(
+            &cfg,
+            &q,
+            b,
+            &pso,
+            Budget::iterations(100),
+            &mut rng_from_seed(1),
+        )
+        .unwrap()
+    };
+    let (with, without) = (solved(&bounds), solved(&DigBounds::default()));
+    assert!(with.feasible(), "{with:?}");
+    assert!(with.params().is_skewed());
+    let mut replay = DigProblem::new(&cfg, &q, &bounds, DigObjective::Weighted).unwrap();
+    assert_eq!(replay.report(&with.params()).unwrap(), with.report.unwrap());
+    assert!(
+        with.objective() <= without.objective() * 1.005,
+        "{} vs {}",
+        with.objective(),
+        without.objective()
+    );
+
+    for bad in [-0.1, f64::NAN] {
+        let b = DigBounds {
+            skew: bad,
+            ..DigBounds::default()
+        };
+        assert!(DigProblem::new(&cfg, &q, &b, DigObjective::Weighted).is_err());
+    }
+}

@@ -280,7 +280,6 @@ fn a_task_of_a_new_dig_count_is_searched_cold() {
             polish: 600,
             ..small().warm
         },
-        ..small()
     };
     let dir = temp_dir("new-count");
     let report = build(&p, &settings, &dir, None).unwrap();

@@ -17,6 +17,7 @@ use dataset_gen::dig_problem::{DigBounds, DigProblem, objective_for, solve_probl
 use dataset_gen::rng::rng_from_seed;
 use dataset_gen::runner::Budget;
 use infer::repair::{DesignGuard, RepairSettings, Repaired, assess, repair};
+use infer::sequence::SKEW_RANGE;
 use infer::{
     CarveBuffer, Config, DigParams, DigPredictor, DigReport, Ground, Outcome, SurfaceMatched,
 };
@@ -106,6 +107,10 @@ impl Baseline {
     }
 }
 
+fn no_skew(a7: &[f64; 3]) -> bool {
+    a7.iter().all(|&a| a == 0.0)
+}
+
 /// Display name of a method: network, PSO, GWO, NSGA-II.
 pub fn method_label(name: &str) -> &str {
     match name {
@@ -126,6 +131,9 @@ pub fn method_label(name: &str) -> &str {
 pub struct DigFigures {
     /// Y = [a16, a26, a36, T].
     pub y: [f64; 4],
+    /// a_17..a_37 of a skewed dig (the extension's family).
+    #[serde(default, skip_serializing_if = "no_skew")]
+    pub a7: [f64; 3],
     /// T \[s\].
     pub duration_s: f64,
     /// V \[cm³\].
@@ -147,7 +155,7 @@ pub struct DigFigures {
 impl DigFigures {
     /// `over_dig_mm` and `within_design` describe the cut below the design.
     pub fn from_report(
-        y: [f64; 4],
+        params: &DigParams,
         r: &DigReport,
         over_dig_mm: f64,
         within_design: bool,
@@ -156,7 +164,8 @@ impl DigFigures {
         DigFigures {
             over_dig_mm,
             within_design,
-            y,
+            y: params.to_array(),
+            a7: params.a7,
             duration_s: r.duration,
             volume_cm3: r.volume * 1e6,
             energy_wh: r.energy_wh(),
@@ -171,6 +180,7 @@ impl DigFigures {
     pub fn failed(y: [f64; 4], why: String, seconds: f64) -> Self {
         DigFigures {
             y,
+            a7: [0.0; 3],
             duration_s: f64::NAN,
             volume_cm3: f64::NAN,
             energy_wh: f64::NAN,
@@ -197,12 +207,21 @@ pub fn solve_again(
     let clock = Instant::now();
     let dig = &step.dig;
     let task = dig.query.task();
+    // A skewed dig is compared with the best dig of its own family.
+    let bounds = DigBounds {
+        skew: if dig.params.is_skewed() {
+            SKEW_RANGE
+        } else {
+            0.0
+        },
+        ..DigBounds::default()
+    };
     let result = DigProblem::on_ground(
         cfg,
         &task,
         &step.terrain_before,
         dig.base_x,
-        &DigBounds::default(),
+        &bounds,
         objective_for(&baseline.algorithm),
     )
     .map(|p| {
@@ -230,16 +249,9 @@ pub fn solve_again(
         base_x: dig.base_x,
     };
     let mut scratch = CarveBuffer::default();
-    match assess(
-        cfg,
-        &task,
-        &DigParams::from_array(sol.y),
-        ground,
-        &mut scratch,
-        Some(guard),
-    ) {
+    match assess(cfg, &task, &sol.params(), ground, &mut scratch, Some(guard)) {
         Ok(a) => DigFigures::from_report(
-            sol.y,
+            &sol.params(),
             &a.report,
             a.over_dig.max_depth * 1e3,
             guard.violation(&a.over_dig) == 0.0,
@@ -333,7 +345,7 @@ pub fn answer_alone(
         Some(guard),
     ) {
         Ok(a) => DigFigures::from_report(
-            y,
+            &repaired.params,
             &repaired.assessment.report,
             a.over_dig.max_depth * 1e3,
             guard.violation(&a.over_dig) == 0.0,

@@ -107,7 +107,7 @@ pub fn compare_digs(
             let dig = &step.dig;
             let guard = planner.guard(&run.plan.design);
             let network = DigFigures::from_report(
-                dig.params.to_array(),
+                &dig.params,
                 &dig.report,
                 dig.over_dig.max_depth * 1e3,
                 guard.violation(&dig.over_dig) == 0.0,

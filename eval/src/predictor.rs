@@ -111,7 +111,7 @@ impl OptimiserPredictor {
 impl DigPredictor for OptimiserPredictor {
     fn predict(&mut self, query: &DigQuery, ground: Ground<'_>) -> Result<DigParams, infer::Error> {
         match self.solve(query, ground) {
-            Ok(sol) => Ok(DigParams::from_array(sol.y)),
+            Ok(sol) => Ok(sol.params()),
             Err(Error::Model(e)) => Err(e),
             // The settings were checked in `new`; anything else is a
             // problem the planner can only report as a failed prediction.

@@ -3,14 +3,21 @@
 //! library's ranges, each planned from every training seed's task network
 //! (with the template planner's full refit bound, and with the least
 //! bound, which shows what the network gives nearly alone), from the
-//! templates and dig by dig.
+//! templates and dig by dig; and each network's digs against guarded PSO
+//! ([`pso`]).
 
+mod pso;
+
+pub use pso::{AgainstPso, against_pso, replayed_steps};
+
+use crate::baselines::Baseline;
 use crate::error::{EvalError, write_file};
 use crate::networks::Networks;
 use crate::planning::PlanFailure;
 use crate::tasks::NamedTask;
 use crate::whole::PlanSummary;
 use infer::Planner;
+use infer::plan::Plan;
 use infer::template::{MIN_EVALUATIONS, TaskNetworkFile, Template, TemplateSettings};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -57,6 +64,9 @@ pub struct LearnedReport {
     pub command: String,
     pub tasks: Vec<NamedTask>,
     pub totals: Vec<PlannerTotals>,
+    /// Each network's digs (full refit bound) against guarded PSO.
+    #[serde(default)]
+    pub pso: Vec<AgainstPso>,
     pub rows: Vec<LearnedRow>,
 }
 
@@ -76,17 +86,38 @@ pub fn compare(
         ..*settings
     };
     let mut rows = Vec::new();
+    // Each network's finished plans at the full bound, for the PSO comparison.
+    let mut finished: Vec<(String, Vec<(String, Plan)>)> = Vec::new();
     for file in networks {
         let net = file.network()?;
         for (label, s) in [("refit", settings), ("least refit", &least)] {
             let name = learned_name(file.seed, label, s);
+            let mut kept = Vec::new();
             for t in tasks {
                 let plan = planner.plan_learned(&t.task, &net, s);
+                if let Ok(p) = plan.as_ref()
+                    && p.stopped.is_none()
+                {
+                    kept.push((t.name.clone(), p.clone()));
+                }
                 rows.push(row(t, &name, plan));
                 bar.inc(1);
             }
+            if label == "refit" {
+                finished.push((name, kept));
+            }
         }
     }
+    let digs: usize = finished
+        .iter()
+        .flat_map(|(_, plans)| plans.iter().map(|(_, p)| p.digs.len()))
+        .sum();
+    bar.inc_length(digs as u64);
+    let guarded = Baseline::pso().guarded();
+    let pso = finished
+        .iter()
+        .map(|(name, plans)| against_pso(planner, name, plans, &guarded, bar))
+        .collect::<Result<Vec<_>, _>>()?;
     if !compared.templates.is_empty() {
         let name = format!("templates (≤ {} evaluations)", settings.max_evaluations);
         for t in tasks {
@@ -121,6 +152,7 @@ pub fn compare(
         command: command.into(),
         tasks: tasks.to_vec(),
         totals,
+        pso,
         rows,
     })
 }
@@ -239,6 +271,25 @@ impl LearnedReport {
                 t.max_planning_ms,
                 t.infeasible_digs
             );
+        }
+        if !self.pso.is_empty() {
+            let _ = writeln!(
+                out,
+                "\nEach dig of a network's finished plans solved again by PSO 50 × 100 held to the same design guard, from the same start and end on the same surface, in the dig's family (with the skews where it has them); means over the digs where PSO's answer is feasible. Goal: ≤ 1.02 for every seed.\n\n| planner | digs | compared | mean objective | PSO's | ratio | digs > 2 % above |\n|---|---|---|---|---|---|---|"
+            );
+            for p in &self.pso {
+                let _ = writeln!(
+                    out,
+                    "| {} | {} | {} | {:.4} | {:.4} | {:.4} | {} |",
+                    p.planner,
+                    p.digs,
+                    p.compared,
+                    p.planner_objective,
+                    p.pso_objective,
+                    p.ratio,
+                    p.above_2_percent
+                );
+            }
         }
         let _ = writeln!(
             out,
