@@ -6,7 +6,7 @@ use std::path::Path;
 use train::config::RuntimeConfig;
 use train::tasks::smoothness::smoothness;
 use train::tasks::{
-    TaskSample, TaskTrainSettings, is_validation, load_library, train_task_network,
+    TaskSample, TaskTrainSettings, digest, is_validation, load_library, train_task_network,
 };
 
 fn planner() -> infer::Planner {
@@ -196,6 +196,18 @@ fn smoothness_tells_a_function_of_the_task_from_noise() {
 
 /// `train_tasks` keeps a seed an earlier run of the same job finished: the
 /// rerun trains nothing and writes the same report.
+/// The digest that tells libraries apart: the same samples give the same
+/// one, one changed target another.
+#[test]
+fn the_digest_follows_the_samples() {
+    let samples = load_library(&shipped_library(), &planner()).unwrap().0;
+    let d = digest(&samples);
+    assert_eq!(d, digest(&samples.clone()));
+    let mut changed = samples;
+    changed[7].y[3] += 1e-12;
+    assert_ne!(d, digest(&changed));
+}
+
 #[test]
 fn train_tasks_resumes_from_finished_seeds() {
     let dir = std::env::temp_dir().join(format!("train_tasks_resume_{}", std::process::id()));
@@ -203,10 +215,10 @@ fn train_tasks_resumes_from_finished_seeds() {
     std::fs::create_dir_all(&dir).unwrap();
     let settings = dir.join("settings.json");
     std::fs::write(&settings, serde_json::to_string(&small()).unwrap()).unwrap();
-    let run = || {
+    let run = |library: std::path::PathBuf| {
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_train_tasks"))
             .args(["--seeds", "1,2", "--no-progress", "--library"])
-            .arg(shipped_library())
+            .arg(library)
             .arg("--settings")
             .arg(&settings)
             .arg("--out")
@@ -220,23 +232,26 @@ fn train_tasks_resumes_from_finished_seeds() {
         );
         String::from_utf8_lossy(&out.stderr).into_owned()
     };
-    let first = run();
+    let first = run(shipped_library());
     assert!(!first.contains("earlier run"), "{first}");
     let report = std::fs::read_to_string(dir.join("out/report.json")).unwrap();
     // Seed 2 lost its network: it alone trains again.
     std::fs::remove_file(dir.join("out/seed_2.json")).unwrap();
-    let second = run();
+    // The same library by another spelling of its path: its plans, not
+    // its name, say it is the same.
+    let second = run(shipped_library().join("."));
     assert!(
         second.contains("seed 1: kept from an earlier run"),
         "{second}"
     );
     assert!(!second.contains("seed 2: kept"), "{second}");
-    // Training repeats bit for bit but for its wall time.
+    // Training repeats bit for bit but for its wall time (and the path as given).
     let strip = |t: &str| {
         let mut v: serde_json::Value = serde_json::from_str(t).unwrap();
         for r in v["runs"].as_array_mut().unwrap() {
             r["seconds"] = 0.into();
         }
+        v["library"] = "".into();
         v
     };
     let again = std::fs::read_to_string(dir.join("out/report.json")).unwrap();

@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use train::config::RuntimeConfig;
 use train::tasks::report::{SeedRecord, SeedRun, TaskTrainReport, plot};
 use train::tasks::smoothness::smoothness;
-use train::tasks::{TaskTrainSettings, is_validation, load_library, train_task_network};
+use train::tasks::{TaskTrainSettings, digest, is_validation, load_library, train_task_network};
 
 #[derive(Parser, Debug)]
 #[command(about = "Train the task network on a plan library (one network per seed)")]
@@ -68,6 +68,7 @@ fn run(cli: &Cli) -> Result<(), String> {
         checkpoint_every: usize::MAX,
     };
     let library = cli.library.display().to_string();
+    let digest = digest(&samples);
     let n_val = samples.iter().filter(|s| is_validation(s)).count();
     let n_train = samples.len() - n_val;
     let mut runs = Vec::new();
@@ -79,7 +80,7 @@ fn run(cli: &Cli) -> Result<(), String> {
             .ok()
             .and_then(|t| serde_json::from_str::<SeedRecord>(&t).ok())
             .filter(|r| {
-                r.library == library
+                r.digest == digest
                     && r.settings == settings
                     && (r.train_tasks, r.validation_tasks) == (n_train, n_val)
                     && file.exists()
@@ -105,6 +106,7 @@ fn run(cli: &Cli) -> Result<(), String> {
                 };
                 let record = SeedRecord {
                     library: library.clone(),
+                    digest,
                     settings: settings.clone(),
                     train_tasks: n_train,
                     validation_tasks: n_val,

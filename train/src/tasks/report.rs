@@ -25,6 +25,11 @@ pub struct SeedRun {
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct SeedRecord {
     pub library: String,
+    /// [`crate::tasks::digest`] of the samples: a library rebuilt in the
+    /// same folder (or another spelling of its path) is told apart by its
+    /// plans, not its name. 0 in records older than it: they retrain.
+    #[serde(default)]
+    pub digest: u64,
     pub settings: TaskTrainSettings,
     pub train_tasks: usize,
     pub validation_tasks: usize,
