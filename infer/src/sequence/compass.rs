@@ -3,6 +3,9 @@
 use super::deb::better;
 use super::vars::DIG_VARS;
 
+/// The index of a dig's type among its variables.
+const TYPE: usize = 0;
+
 /// A sequence being refitted: it holds the best sequence so far, plays
 /// candidates that differ from it in one variable, and counts the exact
 /// evaluations spent. How a candidate is played (from which dig on, when
@@ -42,6 +45,12 @@ pub fn initial_step<const N: usize>(lo: &[f64; N], hi: &[f64; N]) -> [f64; N] {
 /// Stops once a move could take the evaluations spent past `limit`, or
 /// every step is below `min_step` × its variable's range; `steps` holds
 /// the steps reached. A variable whose range is empty never moves.
+///
+/// Variable 0 of a dig is its type (< 0.5 downward): a step that stays on
+/// its side changes nothing, so a dig the seed made of the wrong type
+/// could never turn. Its move is a flip to the middle of the other side
+/// (0.25 or 0.75), tried while its step is unsettled, and its step
+/// halves or is restored like any other's.
 pub fn compass<const N: usize, R: Refit<N> + ?Sized>(
     r: &mut R,
     lo: &[f64; N],
@@ -58,6 +67,27 @@ pub fn compass<const N: usize, R: Refit<N> + ?Sized>(
         for j in (0..n).rev() {
             for i in 0..N {
                 if settled(steps[j][i], min_step[i]) {
+                    continue;
+                }
+                if i == TYPE {
+                    if r.spent() + r.cost(j) > limit {
+                        return;
+                    }
+                    let old = r.best()[j][i];
+                    let other: f64 = if old < 0.5 { 0.75 } else { 0.25 };
+                    let v = other.clamp(lo[i], hi[i]);
+                    let flipped = (v < 0.5) != (old < 0.5);
+                    let gained = flipped
+                        && r.play(j, i, v).is_some_and(|(violation, value)| {
+                            let (best_violation, best_value) = r.best_score();
+                            better(violation, value, best_violation, best_value)
+                        });
+                    if gained {
+                        r.accept(j);
+                        steps[j][i] = first[i];
+                    } else {
+                        steps[j][i] *= 0.5;
+                    }
                     continue;
                 }
                 let mut gained = false;
@@ -93,5 +123,78 @@ pub fn compass<const N: usize, R: Refit<N> + ?Sized>(
         {
             return;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One dig of two variables: the type and x. Feasible only as a
+    /// downward dig (type < 0.5); the value is (x − 0.3)².
+    struct Toy {
+        best: [[f64; 2]; 1],
+        candidate: [[f64; 2]; 1],
+        spent: usize,
+    }
+
+    impl Toy {
+        fn score(v: &[f64; 2]) -> (f64, f64) {
+            let violation = if v[0] < 0.5 { 0.0 } else { 1.0 };
+            (violation, (v[1] - 0.3) * (v[1] - 0.3))
+        }
+    }
+
+    impl Refit<2> for Toy {
+        fn best(&self) -> &[[f64; 2]] {
+            &self.best
+        }
+        fn best_score(&self) -> (f64, f64) {
+            Self::score(&self.best[0])
+        }
+        fn spent(&self) -> usize {
+            self.spent
+        }
+        fn cost(&self, _: usize) -> usize {
+            1
+        }
+        fn play(&mut self, j: usize, i: usize, value: f64) -> Option<(f64, f64)> {
+            self.spent += 1;
+            self.candidate = self.best;
+            self.candidate[j][i] = value;
+            Some(Self::score(&self.candidate[0]))
+        }
+        fn accept(&mut self, _: usize) {
+            self.best = self.candidate;
+        }
+    }
+
+    #[test]
+    fn a_dig_of_the_wrong_type_turns_and_then_fits() {
+        let (lo, hi) = ([0.0, 0.0], [1.0, 1.0]);
+        // 0.9: no step of 5 % of the range reaches the other side.
+        let mut toy = Toy {
+            best: [[0.9, 0.8]],
+            candidate: [[0.0; 2]],
+            spent: 0,
+        };
+        let mut steps = [initial_step(&lo, &hi)];
+        compass(&mut toy, &lo, &hi, &mut steps, 10_000, 1e-6);
+        assert_eq!(toy.best[0][0], 0.25);
+        assert!((toy.best[0][1] - 0.3).abs() < 1e-5, "{:?}", toy.best);
+        assert!(toy.spent < 10_000, "it settles");
+    }
+
+    #[test]
+    fn a_type_with_an_empty_range_never_flips() {
+        let (lo, hi) = ([0.9, 0.0], [0.9, 1.0]);
+        let mut toy = Toy {
+            best: [[0.9, 0.8]],
+            candidate: [[0.0; 2]],
+            spent: 0,
+        };
+        let mut steps = [initial_step(&lo, &hi)];
+        compass(&mut toy, &lo, &hi, &mut steps, 10_000, 1e-6);
+        assert_eq!(toy.best[0][0], 0.9);
     }
 }
