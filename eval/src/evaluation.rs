@@ -65,7 +65,7 @@ pub struct EvalSettings {
     /// reach gets no plan).
     #[serde(default = "reference_only")]
     pub sequence: Coverage,
-    #[serde(default)]
+    #[serde(default = "sequence_search")]
     pub sequence_search: SequenceSettings,
     /// The templates every task of the whole-task comparison is also
     /// planned from (infer's template planner); `None`: not run.
@@ -89,6 +89,15 @@ fn reference_only() -> Coverage {
     Coverage::Reference
 }
 
+/// The sequence search's defaults in the family the learned planner
+/// plans in: the skews free (`infer`'s extension of the spec's digs).
+fn sequence_search() -> SequenceSettings {
+    SequenceSettings {
+        skew: true,
+        ..SequenceSettings::default()
+    }
+}
+
 impl Default for EvalSettings {
     /// The full comparison: A–D and 20 random tasks, every dig solved again
     /// by PSO, GWO and NSGA-II at the source's settings and by PSO held to
@@ -105,7 +114,7 @@ impl Default for EvalSettings {
             whole_task: Coverage::All,
             in_loop: Baseline::pso(),
             sequence: Coverage::Reference,
-            sequence_search: SequenceSettings::default(),
+            sequence_search: sequence_search(),
             templates: Some(TemplatePlanning::default()),
             planner: PlannerSettings::default(),
             alone_tries: alone_tries(),
@@ -150,7 +159,7 @@ impl EvalSettings {
             Coverage::All | Coverage::Reference => {}
             Coverage::Skip => out.push("no sequence search".into()),
         }
-        if self.sequence != Coverage::Skip && self.sequence_search != SequenceSettings::default() {
+        if self.sequence != Coverage::Skip && self.sequence_search != sequence_search() {
             out.push("sequence search settings differ from the default".into());
         }
         match &self.templates {

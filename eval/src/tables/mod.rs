@@ -437,12 +437,17 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
             let q = &report.settings.sequence_search;
             let _ = writeln!(
                 out,
-                "\n## Whole tasks: the sequence search (offline reference)\n\n{} over every dig of the task at once ({} restarts × {} × {}, then a compass search of {} evaluations): each dig's type, start, chord, end lift, bucket attitudes, bends and T chosen together to minimise under- plus over-dug area, every dig feasible and within the design guard, the machine at its first position. What the dig family reaches on the profile with the planner's expected number of digs; seconds, not milliseconds.\n",
+                "\n## Whole tasks: the sequence search (offline reference)\n\n{} over every dig of the task at once ({} restarts × {} × {}, then a compass search of {} evaluations): each dig's type, start, chord, end lift, bucket attitudes, bends{} and T chosen together to minimise under- plus over-dug area, every dig feasible and within the design guard, the machine at its first position. What the dig family reaches on the profile with the planner's expected number of digs; seconds, not milliseconds.\n",
                 q.optimiser.name(),
                 q.restarts,
                 q.population,
                 q.iterations,
-                q.polish
+                q.polish,
+                if q.skew {
+                    ", skews (the extension of the spec's family)"
+                } else {
+                    ""
+                }
             );
             whole_plans_table(&mut out, report, |w| w.sequence.as_ref());
         }
