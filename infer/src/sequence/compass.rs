@@ -169,10 +169,8 @@ mod tests {
         }
     }
 
-    #[test]
-    fn a_dig_of_the_wrong_type_turns_and_then_fits() {
-        let (lo, hi) = ([0.0, 0.0], [1.0, 1.0]);
-        // 0.9: no step of 5 % of the range reaches the other side.
+    /// The toy dig refitted from type 0.9, x 0.8 within [lo, hi].
+    fn refitted(lo: [f64; 2], hi: [f64; 2]) -> Toy {
         let mut toy = Toy {
             best: [[0.9, 0.8]],
             candidate: [[0.0; 2]],
@@ -180,6 +178,13 @@ mod tests {
         };
         let mut steps = [initial_step(&lo, &hi)];
         compass(&mut toy, &lo, &hi, &mut steps, 10_000, 1e-6);
+        toy
+    }
+
+    #[test]
+    fn a_dig_of_the_wrong_type_turns_and_then_fits() {
+        // From 0.9 no step of 5 % of the range reaches the other side.
+        let toy = refitted([0.0, 0.0], [1.0, 1.0]);
         assert_eq!(toy.best[0][0], 0.25);
         assert!((toy.best[0][1] - 0.3).abs() < 1e-5, "{:?}", toy.best);
         assert!(toy.spent < 10_000, "it settles");
@@ -187,14 +192,7 @@ mod tests {
 
     #[test]
     fn a_type_with_an_empty_range_never_flips() {
-        let (lo, hi) = ([0.9, 0.0], [0.9, 1.0]);
-        let mut toy = Toy {
-            best: [[0.9, 0.8]],
-            candidate: [[0.0; 2]],
-            spent: 0,
-        };
-        let mut steps = [initial_step(&lo, &hi)];
-        compass(&mut toy, &lo, &hi, &mut steps, 10_000, 1e-6);
+        let toy = refitted([0.9, 0.0], [0.9, 1.0]);
         assert_eq!(toy.best[0][0], 0.9);
     }
 }
