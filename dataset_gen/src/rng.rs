@@ -18,6 +18,14 @@ pub fn splitmix64(mut z: u64) -> u64 {
     z ^ (z >> 31)
 }
 
+/// FNV-1a of a byte stream: a digest that is the same on every machine
+/// and Rust version (task names into seeds, library samples into a key).
+pub fn fnv1a(bytes: impl IntoIterator<Item = u8>) -> u64 {
+    bytes.into_iter().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
 /// The seed of sample `index` under `master`.
 pub fn derive_seed(master: u64, index: u64) -> u64 {
     splitmix64(splitmix64(master) ^ splitmix64(index.wrapping_add(0x5851_F42D_4C95_7F2D)))

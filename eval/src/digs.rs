@@ -6,7 +6,7 @@
 
 use crate::baselines::{AloneDig, Baseline, DigFigures, answer_alone, solve_again};
 use crate::planning::PlanRun;
-use dataset_gen::rng::derive_seed;
+use dataset_gen::rng::{derive_seed, fnv1a};
 use infer::{DigPredictor, DigType, Outcome, Planner, Pose, SurfaceMatched};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -67,9 +67,7 @@ pub fn dig_seed(seed: u64, task: &str, dig: usize, b: usize) -> u64 {
 
 /// FNV-1a of a name: a stable number per task name.
 pub fn name_key(name: &str) -> u64 {
-    name.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
-        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
-    })
+    fnv1a(name.bytes())
 }
 
 /// Solves every dig of `runs` (one per task, named) again with each

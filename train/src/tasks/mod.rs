@@ -64,18 +64,12 @@ pub struct TaskSample {
 /// FNV-1a over every sample's task number, inputs, dig count and
 /// targets (their bits): what a network trained on them depends on.
 pub fn digest(samples: &[TaskSample]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    let mut eat = |v: u64| {
-        for b in v.to_le_bytes() {
-            h = (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3);
-        }
-    };
-    for s in samples {
-        eat(s.index as u64);
-        eat(s.count as u64);
-        s.x.iter().chain(&s.y).for_each(|v| eat(v.to_bits()));
-    }
-    h
+    let words = samples.iter().flat_map(|s| {
+        [s.index as u64, s.count as u64]
+            .into_iter()
+            .chain(s.x.iter().chain(&s.y).map(|v| v.to_bits()))
+    });
+    dataset_gen::rng::fnv1a(words.flat_map(u64::to_le_bytes))
 }
 
 impl TaskSample {
