@@ -95,7 +95,8 @@ pub fn compare(
             let mut kept = Vec::new();
             for t in tasks {
                 let plan = planner.plan_learned(&t.task, &net, s);
-                if let Ok(p) = plan.as_ref()
+                if label == "refit"
+                    && let Ok(p) = plan.as_ref()
                     && p.stopped.is_none()
                 {
                     kept.push((t.name.clone(), p.clone()));
