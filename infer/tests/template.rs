@@ -5,10 +5,10 @@
 
 use infer::plan::Plan;
 use infer::repair::assess;
-use infer::sequence::{DIG_VARS, bends_of, decode, encode, params_from_bends};
+use infer::sequence::{DIG_VARS, bends_of, decode, encode, params_from_bends, query_of};
 use infer::template::{TemplateFile, TemplateSettings, TemplateWork};
 use infer::{
-    CarveBuffer, Config, Ground, PlanError, Planner, PlannerSettings, Template, TrenchTask,
+    CarveBuffer, Config, DigType, Ground, PlanError, Planner, PlannerSettings, Template, TrenchTask,
 };
 use std::path::Path;
 
@@ -89,6 +89,43 @@ fn a_library_plan_as_a_template_plays_itself_back() {
         .unwrap();
         terrain.commit(&carve);
     }
+}
+
+/// A dig's type is read from its path, not from its label: each dig of
+/// a library plan labelled with the other type is still the plan's dig.
+#[test]
+fn a_dig_takes_the_type_its_path_fits() {
+    let planner = planner();
+    let cfg = planner.config();
+    let plan: Plan = serde_json::from_str(&artifact("library/task_001.json")).unwrap();
+    let t = Template::from_plan(&planner, &plan).unwrap();
+    let mut terrain = planner.initial_terrain(&plan.design).unwrap();
+    for (v, r) in t.carried_to(cfg, &plan.design).iter().zip(&plan.digs) {
+        let mut relabelled = *v;
+        relabelled[0] = 1.0 - v[0];
+        let (dig, query) = query_of(cfg, &relabelled, &terrain).unwrap();
+        assert_eq!((dig.kind, query.kind), (r.dig.kind, r.dig.kind));
+        let ground = Ground {
+            terrain: &terrain,
+            base_x: 0.0,
+        };
+        let mut carve = CarveBuffer::default();
+        assess(cfg, &query.task(), &dig.params, ground, &mut carve, None).unwrap();
+        terrain.commit(&carve);
+    }
+    assert!(plan.digs.iter().any(|r| r.dig.kind == DigType::Backward));
+    assert!(plan.digs.iter().any(|r| r.dig.kind == DigType::Downward));
+}
+
+#[test]
+fn of_angle_keeps_a_fitting_label_and_else_takes_the_nearer_range() {
+    let cfg = Config::default();
+    let (down, back) = (DigType::Downward, DigType::Backward);
+    let at = |deg: f64, k| DigType::of_angle(&cfg, deg.to_radians(), k);
+    assert_eq!([at(60.0, back), at(60.0, down)], [down, down]);
+    assert_eq!([at(20.0, back), at(20.0, down)], [back, back]);
+    assert_eq!([at(40.0, back), at(40.0, down)], [back, down]);
+    assert_eq!([at(95.0, back), at(-5.0, down)], [down, back]);
 }
 
 #[test]

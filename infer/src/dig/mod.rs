@@ -45,6 +45,34 @@ impl DigType {
         }
     }
 
+    /// The type whose dig-angle range holds `angle` (θ_p): `preferred`
+    /// if its range does (both do at the shared edge, 40°), else the
+    /// other if its range does, else the one whose range is nearer.
+    ///
+    /// Why: the type only says which range θ_p must lie in, and the
+    /// ranges meet, so a path whose θ_p lies in either is a feasible dig
+    /// of one type. A sequence's dig takes its type from its path
+    /// ([`crate::sequence::query_of`]) instead of failing on a label.
+    pub fn of_angle(cfg: &Config, angle: f64, preferred: DigType) -> DigType {
+        let range = |k: DigType| match k {
+            DigType::Downward => cfg.dig_angle.downward,
+            DigType::Backward => cfg.dig_angle.backward,
+        };
+        let distance = |k: DigType| {
+            let [lo, hi] = range(k);
+            (lo - angle).max(angle - hi).max(0.0)
+        };
+        let other = match preferred {
+            DigType::Downward => DigType::Backward,
+            DigType::Backward => DigType::Downward,
+        };
+        if distance(other) < distance(preferred) {
+            other
+        } else {
+            preferred
+        }
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             DigType::Downward => "downward",

@@ -46,11 +46,8 @@ pub fn initial_step<const N: usize>(lo: &[f64; N], hi: &[f64; N]) -> [f64; N] {
 /// every step is below `min_step` × its variable's range; `steps` holds
 /// the steps reached. A variable whose range is empty never moves.
 ///
-/// Variable 0 of a dig is its type (< 0.5 downward): a step that stays on
-/// its side changes nothing, so a dig the seed made of the wrong type
-/// could never turn. Its move is a flip to the middle of the other side
-/// (0.25 or 0.75), tried while its step is unsettled, and its step
-/// halves or is restored like any other's.
+/// Variable 0 of a dig, its type, never moves: a dig's type follows from
+/// its path ([`super::query_of`]), so a move of it would change nothing.
 pub fn compass<const N: usize, R: Refit<N> + ?Sized>(
     r: &mut R,
     lo: &[f64; N],
@@ -66,28 +63,7 @@ pub fn compass<const N: usize, R: Refit<N> + ?Sized>(
     loop {
         for j in (0..n).rev() {
             for i in 0..N {
-                if settled(steps[j][i], min_step[i]) {
-                    continue;
-                }
-                if i == TYPE {
-                    if r.spent() + r.cost(j) > limit {
-                        return;
-                    }
-                    let old = r.best()[j][i];
-                    let other: f64 = if old < 0.5 { 0.75 } else { 0.25 };
-                    let v = other.clamp(lo[i], hi[i]);
-                    let flipped = (v < 0.5) != (old < 0.5);
-                    let gained = flipped
-                        && r.play(j, i, v).is_some_and(|(violation, value)| {
-                            let (best_violation, best_value) = r.best_score();
-                            better(violation, value, best_violation, best_value)
-                        });
-                    if gained {
-                        r.accept(j);
-                        steps[j][i] = first[i];
-                    } else {
-                        steps[j][i] *= 0.5;
-                    }
+                if i == TYPE || settled(steps[j][i], min_step[i]) {
                     continue;
                 }
                 let mut gained = false;
@@ -119,7 +95,7 @@ pub fn compass<const N: usize, R: Refit<N> + ?Sized>(
         }
         if steps[..n]
             .iter()
-            .all(|d| d.iter().zip(&min_step).all(|(s, m)| settled(*s, *m)))
+            .all(|d| (0..N).all(|i| i == TYPE || settled(d[i], min_step[i])))
         {
             return;
         }
@@ -130,19 +106,12 @@ pub fn compass<const N: usize, R: Refit<N> + ?Sized>(
 mod tests {
     use super::*;
 
-    /// One dig of two variables: the type and x. Feasible only as a
-    /// downward dig (type < 0.5); the value is (x − 0.3)².
+    /// One dig of two variables: the type and x; the value is (x − 0.3)².
     struct Toy {
         best: [[f64; 2]; 1],
         candidate: [[f64; 2]; 1],
         spent: usize,
-    }
-
-    impl Toy {
-        fn score(v: &[f64; 2]) -> (f64, f64) {
-            let violation = if v[0] < 0.5 { 0.0 } else { 1.0 };
-            (violation, (v[1] - 0.3) * (v[1] - 0.3))
-        }
+        type_moves: usize,
     }
 
     impl Refit<2> for Toy {
@@ -150,7 +119,7 @@ mod tests {
             &self.best
         }
         fn best_score(&self) -> (f64, f64) {
-            Self::score(&self.best[0])
+            (0.0, (self.best[0][1] - 0.3) * (self.best[0][1] - 0.3))
         }
         fn spent(&self) -> usize {
             self.spent
@@ -160,39 +129,30 @@ mod tests {
         }
         fn play(&mut self, j: usize, i: usize, value: f64) -> Option<(f64, f64)> {
             self.spent += 1;
+            self.type_moves += usize::from(i == TYPE);
             self.candidate = self.best;
             self.candidate[j][i] = value;
-            Some(Self::score(&self.candidate[0]))
+            let x = self.candidate[0][1];
+            Some((0.0, (x - 0.3) * (x - 0.3)))
         }
         fn accept(&mut self, _: usize) {
             self.best = self.candidate;
         }
     }
 
-    /// The toy dig refitted from type 0.9, x 0.8 within [lo, hi].
-    fn refitted(lo: [f64; 2], hi: [f64; 2]) -> Toy {
+    #[test]
+    fn the_search_fits_every_variable_but_the_type() {
+        let (lo, hi) = ([0.0, 0.0], [1.0, 1.0]);
         let mut toy = Toy {
             best: [[0.9, 0.8]],
             candidate: [[0.0; 2]],
             spent: 0,
+            type_moves: 0,
         };
         let mut steps = [initial_step(&lo, &hi)];
         compass(&mut toy, &lo, &hi, &mut steps, 10_000, 1e-6);
-        toy
-    }
-
-    #[test]
-    fn a_dig_of_the_wrong_type_turns_and_then_fits() {
-        // From 0.9 no step of 5 % of the range reaches the other side.
-        let toy = refitted([0.0, 0.0], [1.0, 1.0]);
-        assert_eq!(toy.best[0][0], 0.25);
         assert!((toy.best[0][1] - 0.3).abs() < 1e-5, "{:?}", toy.best);
+        assert_eq!((toy.best[0][0], toy.type_moves), (0.9, 0));
         assert!(toy.spent < 10_000, "it settles");
-    }
-
-    #[test]
-    fn a_type_with_an_empty_range_never_flips() {
-        let toy = refitted([0.9, 0.0], [0.9, 1.0]);
-        assert_eq!(toy.best[0][0], 0.9);
     }
 }

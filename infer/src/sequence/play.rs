@@ -2,20 +2,31 @@
 
 use super::vars::{SequenceDig, decode};
 use crate::config::Config;
-use crate::dig::{Ground, Reference};
+use crate::dig::{DigType, Ground, Reference, dig_angle};
 use crate::query::DigQuery;
 use crate::repair::{Assessment, DesignGuard, assess, assess_to_beat};
 use crate::terrain::{CarveBuffer, Terrain};
+use crate::trajectory::Trajectory;
 
 /// Violation of a dig whose poses are out of reach or that the model
 /// cannot evaluate: worse than any dig it can.
 pub const UNEVALUABLE: f64 = 1000.0;
 
 /// The dig that `v` stands for on `terrain` ([`decode`]) and its query;
-/// `None` if its poses are off the terrain or out of reach.
+/// `None` if its poses are off the terrain or out of reach, or its
+/// trajectory is not finite.
+///
+/// Its type follows from its path: the one whose dig-angle range holds
+/// the path's θ_p, the type variable only choosing at the ranges' shared
+/// edge ([`DigType::of_angle`]). So no search spends evaluations on a
+/// dig whose path fits a type it was not labelled with.
 pub fn query_of(cfg: &Config, v: &[f64], terrain: &Terrain) -> Option<(SequenceDig, DigQuery)> {
-    let dig = decode(v, terrain)?;
-    let query = DigQuery::from_poses(cfg, &dig.start, &dig.end, dig.start.y, dig.kind).ok()?;
+    let mut dig = decode(v, terrain)?;
+    let mut query = DigQuery::from_poses(cfg, &dig.start, &dig.end, dig.start.y, dig.kind).ok()?;
+    let traj = Trajectory::new(&query.start, &query.end, &dig.params).ok()?;
+    let kind = DigType::of_angle(cfg, dig_angle(cfg, &query.task(), &traj), dig.kind);
+    dig.kind = kind;
+    query.kind = kind;
     Some((dig, query))
 }
 
