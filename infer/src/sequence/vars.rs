@@ -8,9 +8,11 @@ use crate::terrain::Terrain;
 use crate::trajectory::DigParams;
 use crate::trench::DesignProfile;
 
-/// Variables per dig in the spec's family: type (< 0.5 downward), start x,
-/// chord, end lift, start ζ, end ζ, the bends b1–b3 (b_i = a_i6 (T/2)⁶,
-/// rad) and T. What spec-family networks give and old files hold.
+/// Variables per dig in the spec's family: type (< 0.5 downward; where
+/// the path's dig angle fits only the other type, the dig is of that one:
+/// [`super::query_of`]), start x, chord, end lift, start ζ, end ζ, the
+/// bends b1–b3 (b_i = a_i6 (T/2)⁶, rad) and T. What spec-family networks
+/// give and old files hold.
 pub const SPEC_VARS: usize = 10;
 
 /// Variables per dig: the [`SPEC_VARS`], then the skews k1–k3 of the
