@@ -168,9 +168,21 @@ impl Planner {
         network: &TaskNetwork<'_>,
         settings: &TemplateSettings,
     ) -> Result<Plan, PlanError> {
+        self.plan_learned_with(task, network, &[], settings)
+    }
+
+    /// [`Self::plan_learned`], the nearest of `templates` seeding the
+    /// refit too ([`TemplateWork::plan_learned_with`]): `plan`'s default.
+    pub fn plan_learned_with(
+        &self,
+        task: &TrenchTask,
+        network: &TaskNetwork<'_>,
+        templates: &[Template],
+        settings: &TemplateSettings,
+    ) -> Result<Plan, PlanError> {
         let clock = std::time::Instant::now();
         let mut work = Box::new(TemplateWork::new(self)?);
-        work.plan_learned(self, task, network, settings)?;
+        work.plan_learned_with(self, task, network, templates, settings)?;
         Ok(self.plan_of(&mut work, task, clock))
     }
 

@@ -12,6 +12,9 @@ use std::path::Path;
 #[path = "common/counting.rs"]
 mod counting;
 use counting::allocations;
+#[path = "common/unskewed.rs"]
+mod unskewed;
+use unskewed::unskewed;
 
 fn planner() -> Planner {
     Planner::new(&Config::default(), &PlannerSettings::default()).unwrap()
@@ -50,6 +53,8 @@ fn network_of_width(planner: &Planner, w: usize) -> (Vec<usize>, Vec<f64>, infer
     )
     .unwrap();
     let t = file.templates[work.seed()];
+    // A network of the spec's family gives no skews.
+    let t = if w == SPEC_VARS { unskewed(&t) } else { t };
     let count = t.digs().len();
     let carried = t.carried_to(planner.config(), &design);
     let mut u = vec![0.0; TASK_OUTPUTS / SPEC_VARS * w];
@@ -191,4 +196,33 @@ fn a_task_of_more_digs_than_the_network_gives_is_seeded_with_fewer() {
         Ok(plan) => assert!(plan.digs.len() <= 6),
         Err(e) => assert!(!e.to_string().contains("digs (1 to"), "{e}"),
     }
+}
+
+/// The nearest templates seed the learned refit too (`plan`'s default),
+/// without allocating: a network whose every answer is its box's middle
+/// plans A from a template's refit, and the plan replays.
+#[test]
+fn templates_seed_the_learned_refit_too() {
+    let planner = planner();
+    let (widths, params) = constant_network(&[0.5; SKEWED_TASK_OUTPUTS]);
+    let net = TaskNetwork::new(&widths, &params).unwrap();
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/templates.json");
+    let templates = TemplateFile::from_json(&std::fs::read_to_string(path).unwrap())
+        .unwrap()
+        .templates;
+    let task = TrenchTask::reference('A').unwrap();
+    let settings = TemplateSettings {
+        max_evaluations: 1200,
+        ..TemplateSettings::default()
+    };
+    let mut work = Box::new(TemplateWork::new(&planner).unwrap());
+    let before = allocations();
+    work.plan_learned_with(&planner, &task, &net, &templates, &settings)
+        .unwrap();
+    assert_eq!(allocations(), before, "plan_learned_with allocated");
+    assert!(work.seed() > 0, "the network's seed won");
+    let plan = planner
+        .plan_learned_with(&task, &net, &templates, &settings)
+        .unwrap();
+    assert_eq!(plan.verify(&planner).unwrap(), plan.metrics);
 }

@@ -92,6 +92,20 @@ fn bad_tasks_and_missing_networks_are_clear_errors() {
             &["--task", "A", "--learned", "/nonexistent"],
             "the task network is needed",
         ),
+        (
+            &[
+                "--task",
+                "A",
+                "--learned",
+                concat!(
+                    env!("CARGO_MANIFEST_DIR"),
+                    "/../artifacts/task_network/seed_1.json"
+                ),
+                "--seed-templates",
+                "/nonexistent",
+            ],
+            "/nonexistent",
+        ),
     ];
     for (args, message) in cases {
         let o = plan(&[*args, &["-o", out]].concat());
@@ -284,11 +298,14 @@ fn learned_plan_verifies_or_falls_back_to_the_networks() {
     let stem = dir.join("c");
     let stem = stem.to_str().unwrap();
     // Whichever planner made it, the plan written replays under the exact model.
+    let templates = format!("{artifacts}/templates.json");
     let o = plan(&[
         "--task",
         "C",
         "--learned",
         &network,
+        "--seed-templates",
+        &templates,
         "--networks",
         artifacts,
         "-o",
@@ -305,8 +322,8 @@ fn learned_plan_verifies_or_falls_back_to_the_networks() {
         .unwrap();
     learned_or_fallen_back(&o, stem);
 
-    // The least bound: the shipped seed-1 network plans none of A–D
-    // (artifacts/learned/report.md), so `plan` says why and falls back.
+    // The least bound: the shipped seed-1 network's seeds alone do not
+    // plan A (artifacts/learned/report.md), so `plan` says why and falls back.
     let settings = dir.join("t.json");
     std::fs::write(&settings, r#"{"max_evaluations": 100}"#).unwrap();
     let s = settings.to_str().unwrap();
@@ -315,6 +332,8 @@ fn learned_plan_verifies_or_falls_back_to_the_networks() {
         "A",
         "--learned",
         &network,
+        "--seed-templates",
+        "none",
         "--template-settings",
         s,
         "--networks",

@@ -433,9 +433,12 @@ fn learned(
             networks.display()
         )));
     }
+    // Per network: as `plan` runs it, the least bound and, with
+    // templates, its seeds alone; then the templates and the greedy planner.
+    let with_templates = usize::from(!compared.templates.is_empty());
     let runs = tasks.len()
-        * (2 * files.len()
-            + usize::from(!compared.templates.is_empty())
+        * ((2 + with_templates) * files.len()
+            + with_templates
             + usize::from(compared.dig_networks.is_some()));
     let bar = dataset_gen::jobs::progress_bar(runs as u64, "plans", progress);
     let report = eval::learned::compare(

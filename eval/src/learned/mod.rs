@@ -1,10 +1,11 @@
 //! The learned task planner against the template planner and the dig
 //! networks' greedy planner: eval's tasks and fresh random tasks from the
 //! library's ranges, each planned from every training seed's task network
-//! (with the template planner's full refit bound, and with the least
-//! bound, which shows what the network gives nearly alone), from the
-//! templates and dig by dig; and each network's digs against guarded PSO
-//! ([`pso`]).
+//! (as `plan` runs it, seeded by the network's sequences and the nearest
+//! templates, with the template planner's full refit bound; from the
+//! network's seeds alone, which shows what the network adds; and with the
+//! least bound), from the templates and dig by dig; and each network's
+//! digs against guarded PSO ([`pso`]).
 
 mod pso;
 
@@ -88,13 +89,22 @@ pub fn compare(
     let mut rows = Vec::new();
     // Each network's finished plans at the full bound, for the PSO comparison.
     let mut finished: Vec<(String, Vec<(String, Plan)>)> = Vec::new();
+    // The learned planner as `plan` runs it (the network's sequences and
+    // the nearest templates as seeds), on the network's seeds alone to
+    // show what the network adds, and at the least bound.
+    let library = compared.templates.as_slice();
+    let mut variants = vec![("refit", settings, library)];
+    if !library.is_empty() {
+        variants.push(("network's seeds alone", settings, &[]));
+    }
+    variants.push(("least refit", &least, library));
     for file in networks {
         let net = file.network()?;
-        for (label, s) in [("refit", settings), ("least refit", &least)] {
+        for &(label, s, templates) in &variants {
             let name = learned_name(file.seed, label, s);
             let mut kept = Vec::new();
             for t in tasks {
-                let plan = planner.plan_learned(&t.task, &net, s);
+                let plan = planner.plan_learned_with(&t.task, &net, templates, s);
                 if label == "refit"
                     && let Ok(p) = plan.as_ref()
                     && p.stopped.is_none()
@@ -294,7 +304,7 @@ impl LearnedReport {
         }
         let _ = writeln!(
             out,
-            "\nFinished: a plan returned whole (the greedy planner may stop with material left that no feasible dig takes); the area and time columns are over the finished plans. Plan's default: the first network's plan, or the greedy one where it has none (as `plan` does; its times leave out the failed learned attempt). Planning times are wall clock on the machine that ran the command, one task after the other; the benchmark figures are criterion's."
+            "\nFinished: a plan returned whole (the greedy planner may stop with material left that no feasible dig takes); the area and time columns are over the finished plans. Refit: seeded by the network's sequence in the expected dig count, one fewer and one more, and by the nearest templates, as `plan` runs it; network's seeds alone: the same without the templates. Plan's default: the first network's plan, or the greedy one where it has none (as `plan` does; its times leave out the failed learned attempt). Planning times are wall clock on the machine that ran the command, one task after the other; the benchmark figures are criterion's."
         );
         out
     }

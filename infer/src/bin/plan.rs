@@ -50,6 +50,10 @@ struct Args {
     /// If that fails, it says why and plans with the dig networks instead.
     #[arg(long, conflicts_with = "templates")]
     learned: Option<PathBuf>,
+    /// The template library whose nearest plans seed the learned planner
+    /// beside the network's sequences, or `none` for the network's alone
+    #[arg(long, conflicts_with = "templates", default_value = DEFAULT_SEED_TEMPLATES)]
+    seed_templates: PathBuf,
     /// Template planner settings as JSON (any field left out keeps its
     /// default), also the learned planner's.
     #[arg(long)]
@@ -83,6 +87,8 @@ struct Args {
 
 /// The task network `plan` plans from unless told otherwise.
 const DEFAULT_TASK_NETWORK: &str = "artifacts/task_network/seed_1.json";
+/// The templates that seed it too (the chained library's plans).
+const DEFAULT_SEED_TEMPLATES: &str = "artifacts/templates.json";
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
 enum Tracker {
@@ -200,7 +206,18 @@ fn run(args: Args) -> Result<(), String> {
             let file = TaskNetworkFile::from_json(&text)
                 .map_err(|e| format!("{}: {e}", path.display()))?;
             let net = file.network().map_err(|e| e.to_string())?;
-            Some(("task network", planner.plan_learned(&task, &net, &ts)))
+            let seeds = match &args.seed_templates {
+                p if p.as_os_str() == "none" => Vec::new(),
+                p => {
+                    TemplateFile::from_json(&read(p)?)
+                        .map_err(|e| format!("{}: {e}", p.display()))?
+                        .templates
+                }
+            };
+            Some((
+                "task network",
+                planner.plan_learned_with(&task, &net, &seeds, &ts),
+            ))
         }
         (None, true) => None,
     };

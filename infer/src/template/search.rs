@@ -34,8 +34,9 @@ impl Champion {
 enum Source<'s, 'n> {
     /// The nearest of these templates, carried over.
     Templates(&'s [Template]),
-    /// The network's sequence for the task.
-    Network(&'s TaskNetwork<'n>),
+    /// The network's sequence for the task, and the nearest of these
+    /// templates, carried over.
+    Network(&'s TaskNetwork<'n>, &'s [Template]),
 }
 
 /// What the seeds' search hands on: the best refit of a seed by value
@@ -61,8 +62,9 @@ impl TemplateWork {
         self.plan_from(planner, task, Source::Templates(templates), settings)
     }
 
-    /// Plans `task` from the task network's sequence as the one seed,
-    /// refitted, checked and repaired as a template's would be.
+    /// Plans `task` from the task network's sequences (in the expected
+    /// dig count, one fewer and one more) as seeds, refitted, checked and
+    /// repaired as a template's would be.
     pub fn plan_learned(
         &mut self,
         planner: &Planner,
@@ -70,7 +72,24 @@ impl TemplateWork {
         network: &TaskNetwork<'_>,
         settings: &TemplateSettings,
     ) -> Result<(), PlanError> {
-        self.plan_from(planner, task, Source::Network(network), settings)
+        self.plan_from(planner, task, Source::Network(network, &[]), settings)
+    }
+
+    /// [`Self::plan_learned`], the nearest of `templates` (up to
+    /// [`TemplateSettings::neighbours`], and [`MAX_NEIGHBOURS`] seeds in
+    /// all) carried over as seeds too. Why: the network interpolates
+    /// between the library's tasks, and where it misses (a seed of the
+    /// expected count whose refit stays infeasible), a stored plan of a
+    /// near task often holds; the refit keeps the best of either.
+    pub fn plan_learned_with(
+        &mut self,
+        planner: &Planner,
+        task: &TrenchTask,
+        network: &TaskNetwork<'_>,
+        templates: &[Template],
+        settings: &TemplateSettings,
+    ) -> Result<(), PlanError> {
+        self.plan_from(planner, task, Source::Network(network, templates), settings)
     }
 
     fn plan_from(
@@ -154,7 +173,7 @@ impl TemplateWork {
                 }
                 self.skew |= near.iter().flatten().any(|(_, t)| t.skewed());
             }
-            Source::Network(net) => {
+            Source::Network(net, templates) => {
                 // One library plan in six has a dig fewer or more than
                 // `expected`: the network's plan in each count is a seed.
                 let counts = [Some(expected), expected.checked_sub(1), Some(expected + 1)];
@@ -162,10 +181,21 @@ impl TemplateWork {
                     .into_iter()
                     .flatten()
                     .filter(|c| (1..=MAX_TEMPLATE_DIGS).contains(c));
+                let mut used = 0;
                 for (slot, c) in near.iter_mut().zip(counts) {
                     *slot = Some((0, net.predict(cfg, &self.task, &self.design, c)?));
+                    used += 1;
                 }
                 self.skew |= net.skewed();
+                if !templates.is_empty() {
+                    let stored = templates.iter().map(|t| (t.task, t.count));
+                    let k = settings.neighbours.min(MAX_NEIGHBOURS - used);
+                    let found = nearest(stored, &self.task, expected, k);
+                    for (slot, i) in near[used..].iter_mut().zip(found) {
+                        *slot = i.map(|i| (i + 1, templates[i]));
+                    }
+                    self.skew |= templates.iter().any(|t| t.skewed());
+                }
             }
         }
         let (lo, hi) = search_box(cfg, &self.design, self.skew);

@@ -61,7 +61,9 @@ impl TemplateWork {
         self.evaluations
     }
 
-    /// Index (into the templates given) of the template the last plan grew from.
+    /// Index (into the templates given) of the template the last plan grew
+    /// from; for a learned plan, 0 for the network's sequence and i + 1
+    /// for template i.
     pub fn seed(&self) -> usize {
         self.seed
     }
