@@ -209,7 +209,10 @@ fn run(args: Args) -> Result<(), String> {
             let seeds = match &args.seed_templates {
                 p if p.as_os_str() == "none" => Vec::new(),
                 p => {
-                    TemplateFile::from_json(&read(p)?)
+                    let text = read(p).map_err(|e| {
+                        format!("{e} (the templates seeding the task network; give --seed-templates FILE, or none)")
+                    })?;
+                    TemplateFile::from_json(&text)
                         .map_err(|e| format!("{}: {e}", p.display()))?
                         .templates
                 }
