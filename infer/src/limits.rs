@@ -55,9 +55,10 @@ use crate::trajectory::{DigParams, Trajectory};
 pub const SUBSTEPS: usize = 16;
 /// A step whose ends come within this of the torque limit \[N·m\] or
 /// [`NEAR_POWER`] of the power limit \[W\] is checked on the finer grid;
-/// the largest rise between samples measured is 67 N·m (a skewed dig of
-/// the template plan of A, 2026-12-05) and 8.7 W (`tests/limits.rs`
-/// holds it below a third of these).
+/// the largest rise between samples measured is 67 N·m and 8.7 W (a
+/// skewed dig of a template plan of A made under a trial margin,
+/// 2026-12-05; `tests/limits.rs` holds the shipped plans' below a third
+/// of these).
 pub const NEAR_TORQUE: f64 = 210.0;
 pub const NEAR_POWER: f64 = 40.0;
 /// Kept free below the torque limit for the peak between the finer
