@@ -166,12 +166,7 @@ impl TemplateWork {
         self.skew = settings.skew;
         match source {
             Source::Templates(templates) => {
-                let stored = templates.iter().map(|t| (t.task, t.count));
-                let found = nearest(stored, &self.task, expected, settings.neighbours);
-                for (slot, i) in near.iter_mut().zip(found) {
-                    *slot = i.map(|i| (i, templates[i]));
-                }
-                self.skew |= near.iter().flatten().any(|(_, t)| t.skewed());
+                self.skew |= self.nearest_seeds(&mut near, templates, expected, settings, 0);
             }
             Source::Network(net, templates) => {
                 // One library plan in six has a dig fewer or more than
@@ -187,15 +182,8 @@ impl TemplateWork {
                     used += 1;
                 }
                 self.skew |= net.skewed();
-                if !templates.is_empty() {
-                    let stored = templates.iter().map(|t| (t.task, t.count));
-                    let k = settings.neighbours.min(MAX_NEIGHBOURS - used);
-                    let found = nearest(stored, &self.task, expected, k);
-                    for (slot, i) in near[used..].iter_mut().zip(found) {
-                        *slot = i.map(|i| (i + 1, templates[i]));
-                    }
-                    self.skew |= templates.iter().any(|t| t.skewed());
-                }
+                self.skew |=
+                    self.nearest_seeds(&mut near[used..], templates, expected, settings, 1);
             }
         }
         let (lo, hi) = search_box(cfg, &self.design, self.skew);
@@ -235,6 +223,29 @@ impl TemplateWork {
             champion: champion.ok_or(PlanError::NoTemplate)?,
             fallback,
         })
+    }
+
+    /// The nearest of `templates` (at most [`TemplateSettings::neighbours`]
+    /// and `slots.len()`) in `slots`, each with its index plus `offset`;
+    /// whether any of them is skewed.
+    fn nearest_seeds(
+        &self,
+        slots: &mut [Option<(usize, Template)>],
+        templates: &[Template],
+        expected: usize,
+        settings: &TemplateSettings,
+        offset: usize,
+    ) -> bool {
+        if templates.is_empty() {
+            return false;
+        }
+        let stored = templates.iter().map(|t| (t.task, t.count));
+        let k = settings.neighbours.min(slots.len());
+        let found = nearest(stored, &self.task, expected, k);
+        for (slot, i) in slots.iter_mut().zip(found) {
+            *slot = i.map(|i| (i + offset, templates[i]));
+        }
+        slots.iter().flatten().any(|(_, t)| t.skewed())
     }
 
     /// Makes `c` the best sequence again.
