@@ -141,15 +141,17 @@ fn bends_and_durations_round_trip() {
 
 /// With the skews freed (`TemplateSettings::skew`), the spec-family
 /// templates' refit uses them: on B, whose far foot the spec's family
-/// passes only on a wide arc, the plan leaves less undug, and it verifies.
+/// passes only on a wide arc, the plan leaves less undug than the
+/// family's own, or plans B where the family's refit finds no feasible
+/// plan within the bound (as with the seeds' race of 2026-12-05, whose
+/// refits of B's spec-family seeds end 1 mm past the guard's depth), and
+/// it verifies.
 #[test]
 fn freed_skews_plan_b_closer_to_its_design() {
     let planner = planner();
     let templates: Vec<Template> = shipped_templates().iter().map(unskewed).collect();
     let task = TrenchTask::reference('B').unwrap();
-    let spec = planner
-        .plan_from_templates(&task, &templates, &TemplateSettings::default())
-        .unwrap();
+    let spec = planner.plan_from_templates(&task, &templates, &TemplateSettings::default());
     let settings = TemplateSettings {
         skew: true,
         ..TemplateSettings::default()
@@ -157,16 +159,21 @@ fn freed_skews_plan_b_closer_to_its_design() {
     let skewed = planner
         .plan_from_templates(&task, &templates, &settings)
         .unwrap();
-    assert!(spec.digs.iter().all(|r| !r.dig.params.is_skewed()));
     assert!(skewed.digs.iter().any(|r| r.dig.params.is_skewed()));
     assert_eq!(skewed.verify(&planner).unwrap(), skewed.metrics);
-    // 3.55 % → 2.01 % under-dug when this was written.
-    assert!(
-        skewed.metrics.under_dug < spec.metrics.under_dug,
-        "{:?} vs {:?}",
-        skewed.metrics,
-        spec.metrics
-    );
+    match spec {
+        // 3.55 % → 2.01 % under-dug when this was written.
+        Ok(spec) => {
+            assert!(spec.digs.iter().all(|r| !r.dig.params.is_skewed()));
+            assert!(
+                skewed.metrics.under_dug < spec.metrics.under_dug,
+                "{:?} vs {:?}",
+                skewed.metrics,
+                spec.metrics
+            );
+        }
+        Err(e) => assert!(matches!(e, PlanError::Template { .. }), "{e}"),
+    }
 }
 
 #[test]

@@ -147,8 +147,11 @@ pub struct TemplateSettings {
     /// [`crate::trajectory`]): always for a network that gives them or
     /// templates that have them; this also frees them for other seeds.
     pub skew: bool,
-    /// The share of `max_evaluations` spent refitting each seed in turn
-    /// (evenly) before the best of them gets the rest.
+    /// The share of `max_evaluations` the seeds' race takes (rounds of
+    /// refits, halving the field each) before the winner gets the rest.
+    /// 0.7 against 0.5 over the 64 tasks of `eval learned`: 154 against
+    /// 146 plans within 3 % over three networks, the worst 7.5 against
+    /// 12.6 % under-dug.
     pub seed_share: f64,
     /// A refit ends when every step is below this fraction of its
     /// variable's range.
@@ -168,7 +171,7 @@ impl Default for TemplateSettings {
             max_evaluations: 4800,
             weight_objective: 0.0,
             skew: false,
-            seed_share: 0.5,
+            seed_share: 0.7,
             min_step: 1e-3,
             retime: true,
         }

@@ -1,6 +1,7 @@
-//! Search: the task's working memory made ready, then the nearest
-//! templates carried over as seeds, each refitted for an even share of
-//! the bound; and the plan's phases in order.
+//! Search: the task's working memory made ready, then the seeds (the
+//! nearest templates carried over, or the network's sequences) raced by
+//! successive halving for a share of the bound; and the plan's phases in
+//! order.
 
 use super::learned::TaskNetwork;
 use super::{
@@ -28,6 +29,9 @@ impl Champion {
         self.value + self.violation
     }
 }
+
+/// The seeds in the race, each refit's best and the steps it reached.
+type Racers = [Option<(Champion, Steps)>; MAX_NEIGHBOURS];
 
 /// Where a plan's seeds come from.
 #[derive(Clone, Copy)]
@@ -147,13 +151,13 @@ impl TemplateWork {
         Ok(())
     }
 
-    /// Each seed (the nearest templates, carried over, or the network's
-    /// sequence) is refitted for an even share of `seed_share` of the budget. The one whose refit is
-    /// best by value plus violation (a near-feasible sequence of the right
-    /// dig count beats a feasible one that leaves material; ties: the
-    /// nearer) is then refitted with the rest, from the steps it reached
-    /// ([`Self::fit`]); if that ends infeasible, the best feasible refit
-    /// of a seed is the plan.
+    /// The seeds (the nearest templates, carried over, or the network's
+    /// sequences and those templates) race for `seed_share` of the budget
+    /// ([`Self::race`]). The winner, best by value plus violation (a
+    /// near-feasible sequence of the right dig count beats a feasible one
+    /// that leaves material), is then refitted with the rest, from the
+    /// steps it reached ([`Self::fit`]); if that ends infeasible, the best
+    /// feasible refit of a seed is the plan.
     fn search(
         &mut self,
         planner: &Planner,
@@ -192,35 +196,67 @@ impl TemplateWork {
                 v[i] = v[i].clamp(lo[i], hi[i]);
             }
         };
-        let seeds = near.iter().flatten().count();
-        let per_seed = (settings.seed_share
-            * (settings.max_evaluations - last_stage(settings)) as f64
-            / seeds as f64) as usize;
-        let mut champion: Option<(Champion, Steps)> = None;
+        // Each seed carried over, its refit's state kept between rounds.
+        let mut racers: Racers = [None; MAX_NEIGHBOURS];
+        for (slot, (i, t)) in racers.iter_mut().zip(near.into_iter().flatten()) {
+            let mut vars = t.carried_to(cfg, &self.design);
+            vars[..t.count].iter_mut().for_each(clamp);
+            let c = Champion {
+                template: i,
+                count: t.count,
+                vars,
+                violation: f64::INFINITY,
+                value: f64::INFINITY,
+            };
+            *slot = Some((c, [initial_step(&lo, &hi); MAX_TEMPLATE_DIGS]));
+        }
+        self.race(planner, &mut racers, settings)
+    }
+
+    /// The seeds' race (successive halving): in each round every seed
+    /// still in it is replayed and refitted, from the steps it reached, for
+    /// an even share of the round's budget (a first round plays every seed
+    /// whatever its share), and the better half by value plus violation
+    /// races on, down to one. The rounds together take
+    /// `seed_share` of the bound. Why: the refit is a local search, and a
+    /// few hundred evaluations rank seeds by the basin they start in only
+    /// roughly; halving gives the likelier ones more before choosing.
+    fn race(
+        &mut self,
+        planner: &Planner,
+        racers: &mut Racers,
+        settings: &TemplateSettings,
+    ) -> Result<Seeds, PlanError> {
+        let mut alive = racers.iter().flatten().count();
+        let phase = settings.seed_share * (settings.max_evaluations - last_stage(settings)) as f64;
+        let rounds = rounds_for(alive);
+        let per_round = phase / rounds as f64;
+        let start = self.evaluations;
         let mut fallback: Option<Champion> = None;
-        for (rank, (i, t)) in near.into_iter().flatten().enumerate() {
-            let c = &mut self.candidate;
-            c.count = t.count;
-            c.vars = t.carried_to(cfg, &self.design);
-            c.vars[..t.count].iter_mut().for_each(clamp);
-            self.play(planner, 0, settings.weight_objective, false);
-            core::mem::swap(&mut self.best, &mut self.candidate);
-            let limit = (rank + 1) * per_seed;
-            let mut steps = [initial_step(&lo, &hi); MAX_TEMPLATE_DIGS];
-            self.refit(planner, &mut steps, limit, settings);
-            let b = Champion::of(i, &self.best);
-            if champion
-                .as_ref()
-                .is_none_or(|(c, _)| b.penalised() < c.penalised())
-            {
-                champion = Some((b, steps));
+        for round in 0..rounds {
+            let per_seed = per_round / alive as f64;
+            for (rank, racer) in racers[..alive].iter_mut().enumerate() {
+                let (c, steps) = racer.as_mut().ok_or(PlanError::NoTemplate)?;
+                let limit =
+                    start + (round as f64 * per_round + (rank + 1) as f64 * per_seed) as usize;
+                if round > 0 && self.evaluations + c.count + 1 > limit {
+                    continue;
+                }
+                self.replay(planner, c, settings);
+                self.refit(planner, steps, limit, settings);
+                *c = Champion::of(c.template, &self.best);
+                if c.violation == 0.0 && fallback.as_ref().is_none_or(|f| c.value < f.value) {
+                    fallback = Some(*c);
+                }
             }
-            if b.violation == 0.0 && fallback.as_ref().is_none_or(|f| b.value < f.value) {
-                fallback = Some(b);
-            }
+            let key = |r: &Option<(Champion, Steps)>| {
+                r.as_ref().map_or(f64::INFINITY, |(c, _)| c.penalised())
+            };
+            racers[..alive].sort_by(|a, b| key(a).total_cmp(&key(b)));
+            alive = alive.div_ceil(2);
         }
         Ok(Seeds {
-            champion: champion.ok_or(PlanError::NoTemplate)?,
+            champion: racers[0].ok_or(PlanError::NoTemplate)?,
             fallback,
         })
     }
@@ -256,6 +292,11 @@ impl TemplateWork {
         self.play(planner, 0, settings.weight_objective, false);
         core::mem::swap(&mut self.best, &mut self.candidate);
     }
+}
+
+/// Rounds of the seeds' race: each halves the field, down to one.
+fn rounds_for(seeds: usize) -> usize {
+    (usize::BITS - seeds.saturating_sub(1).leading_zeros()).max(1) as usize
 }
 
 /// Evaluations the last stage needs whatever the seeds spent: the best
