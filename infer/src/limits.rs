@@ -55,12 +55,13 @@ use crate::trajectory::{DigParams, Trajectory};
 pub const SUBSTEPS: usize = 16;
 /// A step whose ends come within this of the torque limit \[N·m\] or
 /// [`NEAR_POWER`] of the power limit \[W\] is checked on the finer grid;
-/// the largest rise between samples measured is 67 N·m and 8.7 W (a
-/// skewed dig of a template plan of A made under a trial margin,
+/// the largest rises between samples measured are 67 N·m (a skewed dig
+/// of a template plan of A made under a trial margin) and 15.4 W (the
+/// third dig of the template plan of D after the seeds' race), both
 /// 2026-12-05; `tests/limits.rs` holds the shipped plans' below a third
-/// of these).
+/// of these bands.
 pub const NEAR_TORQUE: f64 = 210.0;
-pub const NEAR_POWER: f64 = 40.0;
+pub const NEAR_POWER: f64 = 50.0;
 /// Kept free below the torque limit for the peak between the finer
 /// grid's points \[N·m\].
 pub const TORQUE_MARGIN: f64 = 12.0;

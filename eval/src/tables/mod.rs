@@ -437,7 +437,7 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
             let q = &report.settings.sequence_search;
             let _ = writeln!(
                 out,
-                "\n## Whole tasks: the sequence search (offline reference)\n\n{} over every dig of the task at once ({} restarts × {} × {}, then a compass search of {} evaluations): each dig's type, start, chord, end lift, bucket attitudes, bends{} and T chosen together to minimise under- plus over-dug area, every dig feasible and within the design guard, the machine at its first position. What the dig family reaches on the profile with the planner's expected number of digs; seconds, not milliseconds.\n",
+                "\n## Whole tasks: the sequence search (offline reference)\n\n{} over every dig of the task at once ({} restarts × {} × {}, then a compass search of {} evaluations): each dig's start, chord, end lift, bucket attitudes, bends{} and T chosen together (its type follows from its path) to minimise under- plus over-dug area, every dig feasible and within the design guard, the machine at its first position. What the dig family reaches on the profile with the planner's expected number of digs; seconds, not milliseconds.\n",
                 q.optimiser.name(),
                 q.restarts,
                 q.population,
