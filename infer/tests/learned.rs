@@ -5,7 +5,9 @@
 
 use infer::sequence::{DIG_VARS, SPEC_VARS};
 use infer::template::learned::{SKEWED_TASK_OUTPUTS, TASK_INPUTS, TASK_OUTPUTS, box_coordinates};
-use infer::template::{TaskNetwork, TaskNetworkFile, TemplateFile, TemplateSettings, TemplateWork};
+use infer::template::{
+    MIN_EVALUATIONS, TaskNetwork, TaskNetworkFile, TemplateFile, TemplateSettings, TemplateWork,
+};
 use infer::{Config, DesignProfile, Planner, PlannerSettings, TrenchTask};
 use std::path::Path;
 
@@ -225,4 +227,35 @@ fn templates_seed_the_learned_refit_too() {
         .plan_learned_with(&task, &net, &templates, &settings)
         .unwrap();
     assert_eq!(plan.verify(&planner).unwrap(), plan.metrics);
+}
+
+/// At the least bound, with the most seeds (the network's counts and 4
+/// templates, racing 3 rounds) and up to 6 digs, the exact evaluations
+/// stay within the bound whether the task is planned or not.
+#[test]
+fn the_least_bound_holds_with_every_seed_racing() {
+    let planner = planner();
+    let (widths, params) = constant_network(&[0.5; SKEWED_TASK_OUTPUTS]);
+    let net = TaskNetwork::new(&widths, &params).unwrap();
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/templates.json");
+    let templates = TemplateFile::from_json(&std::fs::read_to_string(path).unwrap())
+        .unwrap()
+        .templates;
+    let settings = TemplateSettings {
+        max_evaluations: MIN_EVALUATIONS,
+        ..TemplateSettings::default()
+    };
+    let wide = TrenchTask::new_deg(0.85, 0.2, 45.0, 45.0);
+    let deep = TrenchTask::new_deg(0.85, 0.2, 75.0, 75.0);
+    assert!(planner.digs_for(&wide).unwrap() >= 5);
+    let mut work = Box::new(TemplateWork::new(&planner).unwrap());
+    let reference = ['A', 'B', 'C', 'D'].map(|c| TrenchTask::reference(c).unwrap());
+    for task in reference.into_iter().chain([wide, deep]) {
+        let _ = work.plan_learned_with(&planner, &task, &net, &templates, &settings);
+        assert!(
+            work.evaluations() <= MIN_EVALUATIONS,
+            "{task:?}: {} evaluations",
+            work.evaluations()
+        );
+    }
 }
