@@ -200,6 +200,14 @@ fn a_task_of_more_digs_than_the_network_gives_is_seeded_with_fewer() {
     }
 }
 
+/// `artifacts/templates.json`.
+fn shipped_templates() -> Vec<infer::Template> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/templates.json");
+    TemplateFile::from_json(&std::fs::read_to_string(path).unwrap())
+        .unwrap()
+        .templates
+}
+
 /// The nearest templates seed the learned refit too (`plan`'s default),
 /// without allocating: a network whose every answer is its box's middle
 /// plans A from a template's refit, and the plan replays.
@@ -208,10 +216,7 @@ fn templates_seed_the_learned_refit_too() {
     let planner = planner();
     let (widths, params) = constant_network(&[0.5; SKEWED_TASK_OUTPUTS]);
     let net = TaskNetwork::new(&widths, &params).unwrap();
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/templates.json");
-    let templates = TemplateFile::from_json(&std::fs::read_to_string(path).unwrap())
-        .unwrap()
-        .templates;
+    let templates = shipped_templates();
     let task = TrenchTask::reference('A').unwrap();
     let settings = TemplateSettings {
         max_evaluations: 1200,
@@ -237,10 +242,7 @@ fn the_least_bound_holds_with_every_seed_racing() {
     let planner = planner();
     let (widths, params) = constant_network(&[0.5; SKEWED_TASK_OUTPUTS]);
     let net = TaskNetwork::new(&widths, &params).unwrap();
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/templates.json");
-    let templates = TemplateFile::from_json(&std::fs::read_to_string(path).unwrap())
-        .unwrap()
-        .templates;
+    let templates = shipped_templates();
     let settings = TemplateSettings {
         max_evaluations: MIN_EVALUATIONS,
         ..TemplateSettings::default()
