@@ -252,7 +252,15 @@ impl TemplateWork {
             let key = |r: &Option<(Champion, Steps)>| {
                 r.as_ref().map_or(f64::INFINITY, |(c, _)| c.penalised())
             };
-            racers[..alive].sort_by(|a, b| key(a).total_cmp(&key(b)));
+            // A stable insertion sort (`sort_by` needs `alloc`): ties keep
+            // their order, the nearer seed first.
+            for i in 1..alive {
+                let mut j = i;
+                while j > 0 && key(&racers[j]) < key(&racers[j - 1]) {
+                    racers.swap(j, j - 1);
+                    j -= 1;
+                }
+            }
             alive = alive.div_ceil(2);
         }
         Ok(Seeds {
