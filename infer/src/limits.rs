@@ -57,9 +57,9 @@ pub const SUBSTEPS: usize = 16;
 /// [`NEAR_POWER`] of the power limit \[W\] is checked on the finer grid;
 /// the largest rises between samples measured are 67 N·m (a skewed dig
 /// of a template plan of A made under a trial margin) and 49.9 W (the
-/// third dig of the template plan of D, its tip crossing a face an
-/// earlier dig left), both 2026-12-05; `tests/limits.rs` holds the
-/// shipped plans' below a third of these bands.
+/// third dig of the template plan of D), both 2026-12-05;
+/// `tests/limits.rs` holds the shipped plans' below a third of these
+/// bands.
 pub const NEAR_TORQUE: f64 = 210.0;
 pub const NEAR_POWER: f64 = 150.0;
 /// Kept free below the torque limit for the peak between the finer
