@@ -14,9 +14,9 @@ use std::path::Path;
 #[path = "common/counting.rs"]
 mod counting;
 use counting::allocations;
-#[path = "common/unskewed.rs"]
-mod unskewed;
-use unskewed::unskewed;
+#[path = "common/templates.rs"]
+mod templates;
+use templates::{shipped_templates, unskewed};
 
 fn planner() -> Planner {
     Planner::new(&Config::default(), &PlannerSettings::default()).unwrap()
@@ -198,14 +198,6 @@ fn a_task_of_more_digs_than_the_network_gives_is_seeded_with_fewer() {
         Ok(plan) => assert!(plan.digs.len() <= 6),
         Err(e) => assert!(!e.to_string().contains("digs (1 to"), "{e}"),
     }
-}
-
-/// `artifacts/templates.json`.
-fn shipped_templates() -> Vec<infer::Template> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/templates.json");
-    TemplateFile::from_json(&std::fs::read_to_string(path).unwrap())
-        .unwrap()
-        .templates
 }
 
 /// The nearest templates seed the learned refit too (`plan`'s default),

@@ -15,21 +15,15 @@ use std::path::Path;
 #[path = "common/counting.rs"]
 mod counting;
 use counting::allocations;
-#[path = "common/unskewed.rs"]
-mod unskewed;
-use unskewed::unskewed;
+#[path = "common/templates.rs"]
+mod templates;
+use templates::{shipped_templates, unskewed};
 
 fn artifact(name: &str) -> String {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../artifacts")
         .join(name);
     std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-}
-
-fn shipped_templates() -> Vec<Template> {
-    TemplateFile::from_json(&artifact("templates.json"))
-        .unwrap()
-        .templates
 }
 
 fn planner() -> Planner {
