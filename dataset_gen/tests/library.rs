@@ -6,8 +6,8 @@
 use dataset_gen::Error;
 use dataset_gen::jobs::Shard;
 use dataset_gen::library::{
-    Library, LibrarySettings, WarmSettings, Wave, build, build_shard, entry_path,
-    refit_from_library,
+    Library, LibrarySettings, RepairSettings, WarmSettings, Wave, build, build_shard, entry_path,
+    refit_from_library, repair,
 };
 use dataset_gen::sequence::{SequenceOptimiser, SequenceSettings};
 use dataset_gen::tasks::random_task;
@@ -291,4 +291,95 @@ fn a_task_of_a_new_dig_count_is_searched_cold() {
         assert_eq!(plan.digs.len(), p.digs_for(&plan.task).unwrap(), "task {i}");
     }
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Under- plus over-dug area of a plan.
+fn error(plan: &infer::plan::Plan) -> f64 {
+    plan.metrics.under_dug + plan.metrics.over_dug
+}
+
+#[test]
+fn a_repair_searches_again_the_plans_that_miss_and_keeps_the_closer() {
+    let p = planner();
+    let (dir, out) = (temp_dir("repair-from"), temp_dir("repair-to"));
+    // Plans from short searches, then searched again with the usual budget.
+    let short = SequenceSettings {
+        iterations: 80,
+        restarts: 1,
+        polish: 0,
+        ..small().sequence
+    };
+    build(
+        &p,
+        &LibrarySettings {
+            sequence: short,
+            ..small()
+        },
+        &dir,
+        None,
+    )
+    .unwrap();
+    let settings = RepairSettings {
+        above: 1e-6,
+        sequence: small().sequence,
+    };
+    let report = repair(&p, &dir, &out, &settings, None).unwrap();
+    assert_eq!(
+        (report.copied, report.resumed, report.searched.len()),
+        (0, 0, 2)
+    );
+    assert!(
+        report
+            .searched
+            .iter()
+            .any(|(_, before, after)| after < before),
+        "{report:?}"
+    );
+    let (from, to) = (Library::load(&dir).unwrap(), Library::load(&out).unwrap());
+    for ((_, a), (_, b)) in from.plans.iter().zip(&to.plans) {
+        assert_eq!(a.task, b.task);
+        assert!(error(b) <= error(a));
+        assert_eq!(b.verify(&p).unwrap(), b.metrics);
+    }
+
+    // A second run resumes: nothing searched, nothing rewritten.
+    let kept = std::fs::read(entry_path(&out, 0)).unwrap();
+    let again = repair(&p, &dir, &out, &settings, None).unwrap();
+    assert_eq!((again.resumed, again.searched.len()), (2, 0));
+    assert!(std::fs::read(entry_path(&out, 0)).unwrap() == kept);
+
+    // Other settings in the same folder, or the library as its own output, are refused.
+    let other = RepairSettings {
+        above: 0.5,
+        ..settings
+    };
+    let e = repair(&p, &dir, &out, &other, None).unwrap_err();
+    assert!(matches!(e, Error::BadSettings(_)), "{e}");
+    assert!(repair(&p, &dir, &dir, &settings, None).is_err());
+    let bad = RepairSettings {
+        above: 0.0,
+        ..settings
+    };
+    let e = repair(&p, &dir, &temp_dir("repair-bad"), &bad, None).unwrap_err();
+    assert!(matches!(e, Error::BadSettings(_)), "{e}");
+
+    // Plans within the tolerance are copied as they are.
+    let copy = temp_dir("repair-copy");
+    let within = RepairSettings {
+        above: 0.99,
+        ..settings
+    };
+    let report = repair(&p, &dir, &copy, &within, None).unwrap();
+    assert_eq!((report.copied, report.searched.len()), (2, 0));
+    assert!(
+        Library::load(&copy)
+            .unwrap()
+            .plans
+            .iter()
+            .zip(&from.plans)
+            .all(|(a, b)| a.1 == b.1)
+    );
+    for d in [dir, out, copy] {
+        std::fs::remove_dir_all(d).unwrap();
+    }
 }

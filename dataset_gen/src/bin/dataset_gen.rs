@@ -234,6 +234,24 @@ enum Command {
         #[arg(long)]
         no_progress: bool,
     },
+    /// The library in LIBRARY written to OUT, each plan that misses its
+    /// design by more than ABOVE (under- or over-dug) searched again cold
+    /// in its dig count and replaced where the new plan is closer.
+    /// Re-running resumes (plans in OUT are kept).
+    LibraryRepair {
+        #[arg(long, default_value = "runs/library")]
+        library: PathBuf,
+        /// Fraction of the design area above which a plan is searched again.
+        #[arg(long, default_value_t = library::RepairSettings::default().above)]
+        above: f64,
+        /// Independent runs of the cold search, the best kept.
+        #[arg(long, default_value_t = library::RepairSettings::default().sequence.restarts)]
+        restarts: usize,
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long)]
+        no_progress: bool,
+    },
     /// Joins a library built in shards into OUT/library.mcap (every plan a
     /// JSON message on /library/plan); refuses while tasks are missing.
     LibraryMerge {
@@ -612,6 +630,28 @@ fn main_inner() -> Result<(), Error> {
             let mut v = write_plan(&out, &plan, &format!("{title} (refitted from the library)"))?;
             v["tried"] = serde_json::Value::Array(tried);
             print(&v)
+        }
+        Command::LibraryRepair {
+            library: from,
+            above,
+            restarts,
+            out,
+            no_progress,
+        } => {
+            let planner = default_planner()?;
+            let d = library::RepairSettings::default();
+            let settings = library::RepairSettings {
+                above,
+                sequence: dataset_gen::sequence::SequenceSettings {
+                    restarts,
+                    ..d.sequence
+                },
+            };
+            let total = library::repair_evaluations(&library::Library::load(&from)?, &settings);
+            let bar = dataset_gen::jobs::progress_bar(total, "sequences", !no_progress);
+            let report = library::repair(&planner, &from, &out, &settings, Some(&bar))?;
+            bar.finish_and_clear();
+            print(&serde_json::json!({ "out": out, "report": report }))
         }
         Command::Templates { library, out } => {
             let planner = default_planner()?;

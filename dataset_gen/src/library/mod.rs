@@ -16,14 +16,17 @@
 //! searched cold, and every later task by a local search near the plans
 //! of its nearest anchors. Neighbouring tasks then share their source
 //! plans, so their plans vary smoothly (what a network trained on them
-//! needs), at a fraction of a cold search's cost.
+//! needs), at a fraction of a cold search's cost. Its plans that still
+//! miss their design are then searched again cold ([`repair`]).
 
 mod merged;
 mod refit;
+mod repair;
 mod warm;
 
 pub use merged::{MergeReport, PLAN_TOPIC, merge, read_merged};
 pub use refit::{Library, Refit, refit_from_library};
+pub use repair::{RepairReport, RepairSettings, repair, repair_evaluations};
 pub use warm::WarmSettings;
 use warm::{load_anchors, warm_task};
 
