@@ -25,7 +25,13 @@ fn bad_input_exits_with_2() {
         &["generate", "--types", "sideways", "--out", out],
         &["generate", "--shard", "3/2", "--out", out],
         &["optimise-task", "--task", "Z", "--out", out],
-        &["library-repair", "--library", "/nonexistent/library", "--out", out],
+        &[
+            "library-repair",
+            "--library",
+            "/nonexistent/library",
+            "--out",
+            out,
+        ],
     ] {
         let o = dataset_gen().args(args).output().unwrap();
         let err = String::from_utf8_lossy(&o.stderr);
