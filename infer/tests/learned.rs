@@ -6,10 +6,9 @@
 use infer::sequence::{DIG_VARS, SPEC_VARS};
 use infer::template::learned::{SKEWED_TASK_OUTPUTS, TASK_INPUTS, TASK_OUTPUTS, box_coordinates};
 use infer::template::{
-    MIN_EVALUATIONS, TaskNetwork, TaskNetworkFile, TemplateFile, TemplateSettings, TemplateWork,
+    MIN_EVALUATIONS, TaskNetwork, TaskNetworkFile, TemplateSettings, TemplateWork,
 };
 use infer::{Config, DesignProfile, Planner, PlannerSettings, TrenchTask};
-use std::path::Path;
 
 #[path = "common/counting.rs"]
 mod counting;
@@ -42,19 +41,13 @@ fn network_for_a(planner: &Planner) -> (Vec<usize>, Vec<f64>, infer::Template) {
 
 /// [`network_for_a`] with `w` outputs per dig (with the skews: 13).
 fn network_of_width(planner: &Planner, w: usize) -> (Vec<usize>, Vec<f64>, infer::Template) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/templates.json");
-    let file = TemplateFile::from_json(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let templates = shipped_templates();
     let task = TrenchTask::reference('A').unwrap();
     let design = DesignProfile::new(planner.config(), &task);
     let mut work = Box::new(TemplateWork::new(planner).unwrap());
-    work.plan(
-        planner,
-        &task,
-        &file.templates,
-        &TemplateSettings::default(),
-    )
-    .unwrap();
-    let t = file.templates[work.seed()];
+    work.plan(planner, &task, &templates, &TemplateSettings::default())
+        .unwrap();
+    let t = templates[work.seed()];
     // A network of the spec's family gives no skews.
     let t = if w == SPEC_VARS { unskewed(&t) } else { t };
     let count = t.digs().len();

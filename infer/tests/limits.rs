@@ -5,6 +5,9 @@
 #![allow(clippy::result_large_err)] // PlanError carries the violated constraint by value
 
 mod common;
+#[allow(dead_code)] // `unskewed` is not needed here
+#[path = "common/templates.rs"]
+mod templates;
 use common::{REFERENCE_Y, flat, reference_query, shipped, shipped_pair};
 use infer::dig::Quantity;
 use infer::limits::{
@@ -14,12 +17,13 @@ use infer::plan::Plan;
 use infer::poly::Poly;
 use infer::repair::{assess, rescale};
 use infer::retime::{RetimeWork, retime};
-use infer::template::{TaskNetworkFile, TemplateFile, TemplateSettings};
+use infer::template::{TaskNetworkFile, TemplateSettings};
 use infer::{
     CarveBuffer, Config, DigParams, Ground, PlanError, Planner, PlannerSettings, QueryRanges,
     Terrain, Trajectory, TrenchTask, evaluate,
 };
 use proptest::prelude::*;
+use templates::shipped_templates;
 
 fn ground(terrain: &Terrain) -> Ground<'_> {
     Ground {
@@ -405,14 +409,8 @@ fn holds_in_continuous_time(cfg: &Config, plan: &Plan) -> Result<(), String> {
 }
 
 fn templates() -> &'static [infer::Template] {
-    static FILE: std::sync::OnceLock<TemplateFile> = std::sync::OnceLock::new();
-    &FILE
-        .get_or_init(|| {
-            let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-                .join("../artifacts/templates.json");
-            TemplateFile::from_json(&std::fs::read_to_string(path).unwrap()).unwrap()
-        })
-        .templates
+    static TEMPLATES: std::sync::OnceLock<Vec<infer::Template>> = std::sync::OnceLock::new();
+    TEMPLATES.get_or_init(shipped_templates)
 }
 
 fn task_network() -> &'static TaskNetworkFile {
