@@ -647,8 +647,7 @@ fn main_inner() -> Result<(), Error> {
                     ..d.sequence
                 },
             };
-            let total = library::repair_evaluations(&library::Library::load(&from)?, &settings);
-            let bar = dataset_gen::jobs::progress_bar(total, "sequences", !no_progress);
+            let bar = dataset_gen::jobs::progress_bar(0, "sequences", !no_progress);
             let report = library::repair(&planner, &from, &out, &settings, Some(&bar))?;
             bar.finish_and_clear();
             print(&serde_json::json!({ "out": out, "report": report }))

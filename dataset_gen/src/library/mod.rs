@@ -26,7 +26,7 @@ mod warm;
 
 pub use merged::{MergeReport, PLAN_TOPIC, merge, read_merged};
 pub use refit::{Library, Refit, refit_from_library};
-pub use repair::{RepairReport, RepairSettings, repair, repair_evaluations};
+pub use repair::{RepairReport, RepairSettings, repair};
 pub use warm::WarmSettings;
 use warm::{load_anchors, warm_task};
 

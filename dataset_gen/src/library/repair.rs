@@ -87,23 +87,14 @@ pub struct RepairReport {
     pub searched: Vec<(String, f64, f64)>,
 }
 
-/// Evaluations a repair of `library` will spend (for a progress bar).
-pub fn repair_evaluations(library: &Library, settings: &RepairSettings) -> u64 {
-    let n = library
-        .plans
-        .iter()
-        .filter(|(_, p)| settings.misses(p))
-        .count();
-    n as u64 * settings.sequence.evaluations()
-}
-
 /// Writes the library in `from` to `to`, each plan that misses its design
 /// by more than `settings.above` searched again cold ([`optimise_task`] in
 /// its dig count, seeded by the library's seed and the task's number) and
 /// replaced where the new plan is closer (see the module doc). `to` is a
 /// library like any other (`templates`, `train_tasks` read it). A plan
 /// already in `to` is kept, so an interrupted repair resumes; the same
-/// settings give the same plans whatever the thread count.
+/// settings give the same plans whatever the thread count. `bar` counts
+/// sequence evaluations; its length is set here.
 pub fn repair(
     planner: &Planner,
     from: &Path,
@@ -126,6 +117,13 @@ pub fn repair(
     let _lock = FolderLock::acquire(to, "repair.lock")?;
     check_settings(to, settings)?;
     write_whole(&to.join(MANIFEST), &manifest_text)?;
+    if let Some(bar) = bar {
+        // What is left to search: a resume skips the plans already written.
+        let left = library.plans.iter().filter(|(path, p)| {
+            settings.misses(p) && path.file_name().is_none_or(|n| !to.join(n).exists())
+        });
+        bar.set_length(left.count() as u64 * settings.sequence.evaluations());
+    }
     let mut report = RepairReport::default();
     for (path, plan) in &library.plans {
         let name = path
