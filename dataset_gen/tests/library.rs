@@ -348,6 +348,29 @@ fn a_repair_searches_again_the_plans_that_miss_and_keeps_the_closer() {
     assert_eq!((again.resumed, again.searched.len()), (2, 0));
     assert!(std::fs::read(entry_path(&out, 0)).unwrap() == kept);
 
+    // The repaired library repaired again keeps every plan: a task's search
+    // depends only on the library's seed, the task's number and its dig
+    // count, so two passes at falling thresholds give what one at the
+    // lower gives.
+    let twice = temp_dir("repair-twice");
+    let report = repair(&p, &out, &twice, &settings, None).unwrap();
+    assert_eq!(report.searched.len(), 2, "{report:?}");
+    assert!(
+        report
+            .searched
+            .iter()
+            .all(|(_, before, after)| after == before)
+    );
+    let plans = |d: &std::path::Path| -> Vec<_> {
+        Library::load(d)
+            .unwrap()
+            .plans
+            .into_iter()
+            .map(|(_, p)| p)
+            .collect()
+    };
+    assert!(plans(&twice) == plans(&out));
+
     // Other settings in the same folder, or the library as its own output, are refused.
     let other = RepairSettings {
         above: 0.5,
@@ -379,7 +402,7 @@ fn a_repair_searches_again_the_plans_that_miss_and_keeps_the_closer() {
             .zip(&from.plans)
             .all(|(a, b)| a.1 == b.1)
     );
-    for d in [dir, out, copy] {
+    for d in [dir, out, twice, copy] {
         std::fs::remove_dir_all(d).unwrap();
     }
 }
