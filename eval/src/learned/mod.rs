@@ -240,10 +240,7 @@ fn totals<'a>(name: &str, rows: impl Iterator<Item = &'a LearnedRow>) -> Planner
         planner: name.into(),
         tasks: rows.len(),
         finished: done.len(),
-        within_3_percent: done
-            .iter()
-            .filter(|s| s.under_dug <= 0.03 && s.over_dug <= 0.03)
-            .count(),
+        within_3_percent: done.iter().filter(|s| within_3_percent(s)).count(),
         mean_under_dug: done.iter().map(|s| s.under_dug).sum::<f64>() / done.len().max(1) as f64,
         max_under_dug: max(|s| s.under_dug),
         max_over_dug: max(|s| s.over_dug),
@@ -253,7 +250,45 @@ fn totals<'a>(name: &str, rows: impl Iterator<Item = &'a LearnedRow>) -> Planner
     }
 }
 
+/// The tolerance: under- and over-dug each ≤ 3 % of the design.
+fn within_3_percent(s: &PlanSummary) -> bool {
+    s.under_dug <= 0.03 && s.over_dug <= 0.03
+}
+
+/// A row that misses the goals, as the report lists it: the task and its
+/// under- / over-dug area in %, or why it has no finished plan.
+fn miss(r: &LearnedRow) -> Option<String> {
+    match &r.result {
+        Ok(s) if s.complete && within_3_percent(s) => None,
+        Ok(s) if s.complete => Some(format!(
+            "{} {:.2} / {:.2}",
+            r.task,
+            s.under_dug * 100.0,
+            s.over_dug * 100.0
+        )),
+        Ok(_) => Some(format!("{} unfinished", r.task)),
+        Err(_) => Some(format!("{} no plan", r.task)),
+    }
+}
+
 impl LearnedReport {
+    /// Per planner that misses at most a quarter of the tasks, the tasks
+    /// it misses ([`miss`]): where a reader looks first.
+    fn misses(&self) -> Vec<(&str, Vec<String>)> {
+        self.totals
+            .iter()
+            .filter_map(|t| {
+                let missed: Vec<String> = self
+                    .rows
+                    .iter()
+                    .filter(|r| r.planner == t.planner)
+                    .filter_map(miss)
+                    .collect();
+                (missed.len() * 4 <= t.tasks).then_some((t.planner.as_str(), missed))
+            })
+            .collect()
+    }
+
     pub fn markdown(&self) -> String {
         let mut out = String::new();
         let _ = writeln!(out, "# Learned task planner\n");
@@ -300,6 +335,21 @@ impl LearnedReport {
                     p.ratio,
                     p.above_2_percent
                 );
+            }
+        }
+        let misses = self.misses();
+        if !misses.is_empty() {
+            let _ = writeln!(
+                out,
+                "\nTasks not finished or not within 3 % (under- / over-dug, % of the design), for each planner that misses at most a quarter of them:\n"
+            );
+            for (planner, missed) in misses {
+                let list = if missed.is_empty() {
+                    "none".to_string()
+                } else {
+                    missed.join(", ")
+                };
+                let _ = writeln!(out, "- {planner}: {list}");
             }
         }
         let _ = writeln!(
@@ -364,5 +414,32 @@ mod tests {
             .collect();
         assert_eq!(under, vec![("A".into(), 0.05), ("B".into(), 0.2)]);
         assert!(default.iter().all(|r| r.planner.contains("seed 2")));
+    }
+
+    #[test]
+    fn the_report_lists_the_tasks_a_planner_misses() {
+        // 8 tasks: "good" misses two (a quarter), "poor" three.
+        let tasks = ["A", "B", "C", "D", "E", "F", "G", "H"];
+        let mut rows: Vec<LearnedRow> = tasks
+            .iter()
+            .map(|t| row(t, "good", Ok(summary(0.02))))
+            .collect();
+        rows[1] = row("B", "good", Ok(summary(0.045)));
+        rows[2] = row("C", "good", Err("no refit is feasible".into()));
+        let more: Vec<LearnedRow> = tasks
+            .iter()
+            .enumerate()
+            .map(|(i, t)| row(t, "poor", Ok(summary(if i < 3 { 0.1 } else { 0.01 }))))
+            .collect();
+        let report = LearnedReport {
+            command: "test".into(),
+            tasks: Vec::new(),
+            totals: vec![totals("good", rows.iter()), totals("poor", more.iter())],
+            pso: Vec::new(),
+            rows: rows.into_iter().chain(more).collect(),
+        };
+        let md = report.markdown();
+        assert!(md.contains("- good: B 4.50 / 1.00, C no plan"), "{md}");
+        assert!(!md.contains("- poor"), "{md}");
     }
 }
