@@ -555,6 +555,7 @@ fn to_plan(
         stopped: None,
         digs: records,
         planning_seconds: clock.elapsed().as_secs_f64(),
+        origin: None,
     }
 }
 

@@ -86,6 +86,7 @@ pub fn run_plan<P: DigPredictor + ?Sized>(
                     },
                     stopped: Some(e.to_string()),
                     planning_seconds: clock.elapsed().as_secs_f64(),
+                    origin: None,
                 },
                 failure: Some(PlanFailure::of(&e, 0)),
             };
@@ -122,6 +123,7 @@ pub fn run_plan<P: DigPredictor + ?Sized>(
             metrics: state.metrics(),
             stopped: failure.as_ref().map(|f| f.message.clone()),
             planning_seconds: clock.elapsed().as_secs_f64(),
+            origin: None,
         },
         failure,
     }

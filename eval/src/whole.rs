@@ -49,6 +49,9 @@ pub struct PlanSummary {
     pub templated: usize,
     /// Digs returned that break a constraint (should be 0).
     pub infeasible: usize,
+    /// The seed a template or learned plan grew from.
+    #[serde(default)]
+    pub origin: Option<infer::plan::Origin>,
 }
 
 impl PlanSummary {
@@ -84,6 +87,7 @@ impl PlanSummary {
             fitted: count(Outcome::Fitted),
             templated: count(Outcome::Templated),
             infeasible: digs.iter().filter(|d| !d.report.feasible).count(),
+            origin: plan.origin,
         }
     }
 }

@@ -55,6 +55,30 @@ pub struct Plan {
     pub stopped: Option<String>,
     /// Planning time \[s\] (wall clock, including the predictor).
     pub planning_seconds: f64,
+    /// The seed a template or learned plan grew from; `None` for a plan
+    /// made dig by dig or by a search.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub origin: Option<Origin>,
+}
+
+/// Which seed's refit won a template or learned plan: how a reader tells
+/// what the task network added and what the library did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Origin {
+    /// The task network's sequence in this many digs.
+    Network { digs: usize },
+    /// This stored plan (index into the templates given), carried over.
+    Template { index: usize },
+}
+
+impl core::fmt::Display for Origin {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Origin::Network { digs } => write!(f, "the task network's {digs}-dig sequence"),
+            Origin::Template { index } => write!(f, "template {index} (counted from 0)"),
+        }
+    }
 }
 
 impl Plan {
@@ -140,6 +164,7 @@ impl Planner {
             stopped: state.stopped().map(|e| e.to_string()),
             digs,
             planning_seconds: clock.elapsed().as_secs_f64(),
+            origin: None,
         })
     }
 }
@@ -157,7 +182,8 @@ impl Planner {
         let clock = std::time::Instant::now();
         let mut work = Box::new(TemplateWork::new(self)?);
         work.plan(self, task, templates, settings)?;
-        Ok(self.plan_of(&mut work, task, clock))
+        let origin = Origin::Template { index: work.seed() };
+        Ok(self.plan_of(&mut work, task, origin, clock))
     }
 
     /// A plan from the task network's sequence
@@ -183,14 +209,19 @@ impl Planner {
         let clock = std::time::Instant::now();
         let mut work = Box::new(TemplateWork::new(self)?);
         work.plan_learned_with(self, task, network, templates, settings)?;
-        Ok(self.plan_of(&mut work, task, clock))
+        let origin = match work.seed() {
+            0 => Origin::Network { digs: work.len() },
+            i => Origin::Template { index: i - 1 },
+        };
+        Ok(self.plan_of(&mut work, task, origin, clock))
     }
 
-    /// The plan `work` holds, timed from `clock`.
+    /// The plan `work` holds, grown from `origin`, timed from `clock`.
     fn plan_of(
         &self,
         work: &mut TemplateWork,
         task: &TrenchTask,
+        origin: Origin,
         clock: std::time::Instant,
     ) -> Plan {
         let design = *work.design();
@@ -206,6 +237,7 @@ impl Planner {
             stopped: None,
             digs,
             planning_seconds: clock.elapsed().as_secs_f64(),
+            origin: Some(origin),
         }
     }
 }

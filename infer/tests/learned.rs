@@ -3,6 +3,7 @@
 //! panic on a bad network).
 #![allow(clippy::result_large_err)] // PlanError carries the violated constraint by value
 
+use infer::plan::Origin;
 use infer::sequence::{DIG_VARS, SPEC_VARS};
 use infer::template::learned::{SKEWED_TASK_OUTPUTS, TASK_INPUTS, TASK_OUTPUTS, box_coordinates};
 use infer::template::{
@@ -118,6 +119,13 @@ fn a_learned_plan_is_feasible_bounded_repeatable_and_allocation_free() {
     let settings = TemplateSettings::default();
     let plan = planner.plan_learned(&task, &net, &settings).unwrap();
     assert!(!plan.digs.is_empty());
+    // Without templates the network's sequence is the only seed.
+    assert_eq!(
+        plan.origin,
+        Some(Origin::Network {
+            digs: plan.digs.len()
+        })
+    );
     // Replayed from flat ground, every dig holds under the exact model.
     assert_eq!(plan.verify(&planner).unwrap(), plan.metrics);
     let spent: usize = plan.digs.iter().map(|r| r.dig.evaluations).sum();
@@ -217,6 +225,15 @@ fn templates_seed_the_learned_refit_too() {
         .plan_learned_with(&task, &net, &templates, &settings)
         .unwrap();
     assert_eq!(plan.verify(&planner).unwrap(), plan.metrics);
+    // The plan records the template it grew from, and keeps it in JSON.
+    assert_eq!(
+        plan.origin,
+        Some(Origin::Template {
+            index: work.seed() - 1
+        })
+    );
+    let read: infer::plan::Plan = serde_json::from_str(&plan.to_json()).unwrap();
+    assert_eq!(read.origin, plan.origin);
 }
 
 /// At the least bound, with the most seeds (the network's counts and 4

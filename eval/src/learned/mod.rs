@@ -18,7 +18,7 @@ use crate::planning::PlanFailure;
 use crate::tasks::NamedTask;
 use crate::whole::PlanSummary;
 use infer::Planner;
-use infer::plan::Plan;
+use infer::plan::{Origin, Plan};
 use infer::template::{MIN_EVALUATIONS, TaskNetworkFile, Template, TemplateSettings};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -57,6 +57,10 @@ pub struct PlannerTotals {
     pub max_planning_ms: f64,
     /// Digs of returned plans that break a constraint (must be 0).
     pub infeasible_digs: usize,
+    /// Finished plans grown from the task network's sequence rather than
+    /// a template (`None` where no plan records its seed: dig by dig).
+    #[serde(default)]
+    pub network_won: Option<usize>,
 }
 
 /// The comparison.
@@ -247,6 +251,11 @@ fn totals<'a>(name: &str, rows: impl Iterator<Item = &'a LearnedRow>) -> Planner
         median_planning_ms: ms.get(ms.len() / 2).copied().unwrap_or(f64::NAN),
         max_planning_ms: ms.last().copied().unwrap_or(f64::NAN),
         infeasible_digs: done.iter().map(|s| s.infeasible).sum(),
+        network_won: done.iter().any(|s| s.origin.is_some()).then(|| {
+            done.iter()
+                .filter(|s| matches!(s.origin, Some(Origin::Network { .. })))
+                .count()
+        }),
     }
 }
 
@@ -300,12 +309,13 @@ impl LearnedReport {
         );
         let _ = writeln!(
             out,
-            "| planner | finished | ≤ 3 % | mean under | max under | max over | median ms | max ms | infeasible |\n|---|---|---|---|---|---|---|---|---|"
+            "| planner | finished | ≤ 3 % | mean under | max under | max over | median ms | max ms | infeasible | network's seed won |\n|---|---|---|---|---|---|---|---|---|---|"
         );
         for t in &self.totals {
+            let won = t.network_won.map_or("–".to_string(), |n| n.to_string());
             let _ = writeln!(
                 out,
-                "| {} | {}/{} | {} | {:.1} % | {:.1} % | {:.1} % | {:.1} | {:.1} | {} |",
+                "| {} | {}/{} | {} | {:.1} % | {:.1} % | {:.1} % | {:.1} | {:.1} | {} | {won} |",
                 t.planner,
                 t.finished,
                 t.tasks,
@@ -354,7 +364,7 @@ impl LearnedReport {
         }
         let _ = writeln!(
             out,
-            "\nFinished: a plan returned whole (the greedy planner may stop with material left that no feasible dig takes); the area and time columns are over the finished plans. Refit: seeded by the network's sequence in the expected dig count, one fewer and one more, and by the nearest templates, as `plan` runs it; network's seeds alone: the same without the templates. Plan's default: the first network's plan, or the greedy one where it has none (as `plan` does; its times leave out the failed learned attempt). Planning times are wall clock on the machine that ran the command, one task after the other; the benchmark figures are criterion's."
+            "\nFinished: a plan returned whole (the greedy planner may stop with material left that no feasible dig takes); the area and time columns are over the finished plans. Refit: seeded by the network's sequence in the expected dig count, one fewer and one more, and by the nearest templates, as `plan` runs it; network's seeds alone: the same without the templates. Network's seed won: finished plans whose winning seed was the network's sequence (in any of its three counts), not a template. Plan's default: the first network's plan, or the greedy one where it has none (as `plan` does; its times leave out the failed learned attempt). Planning times are wall clock on the machine that ran the command, one task after the other; the benchmark figures are criterion's."
         );
         out
     }

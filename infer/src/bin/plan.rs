@@ -9,11 +9,11 @@ mod common;
 use clap::{Parser, ValueEnum};
 use infer::cli::TaskArgs;
 use infer::network::NetworkFile;
-use infer::plan::{Plan, svg};
+use infer::plan::{Origin, Plan, svg};
 use infer::planner::MoveController;
 use infer::template::{TaskNetworkFile, TemplateFile, TemplateSettings};
 use infer::{
-    Config, DigPredictor, NetworkPair, PlanError, Planner, PlannerSettings, RefinePredictor,
+    Config, DigPredictor, NetworkPair, PlanError, Planner, PlannerSettings, RefinePredictor, to_deg,
 };
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -189,13 +189,17 @@ fn run(args: Args) -> Result<(), String> {
         .learned
         .clone()
         .unwrap_or_else(|| PathBuf::from(DEFAULT_TASK_NETWORK));
+    // The templates given (to plan from, or to seed the task network):
+    // the plan's origin names one of them.
+    let mut templates = Vec::new();
     let planned = match (&args.templates, greedy) {
         (Some(path), _) => {
-            let file = TemplateFile::from_json(&read(path)?)
-                .map_err(|e| format!("{}: {e}", path.display()))?;
+            templates = TemplateFile::from_json(&read(path)?)
+                .map_err(|e| format!("{}: {e}", path.display()))?
+                .templates;
             Some((
                 "templates",
-                planner.plan_from_templates(&task, &file.templates, &ts),
+                planner.plan_from_templates(&task, &templates, &ts),
             ))
         }
         (None, false) => {
@@ -206,20 +210,18 @@ fn run(args: Args) -> Result<(), String> {
             let file = TaskNetworkFile::from_json(&text)
                 .map_err(|e| format!("{}: {e}", path.display()))?;
             let net = file.network().map_err(|e| e.to_string())?;
-            let seeds = match &args.seed_templates {
-                p if p.as_os_str() == "none" => Vec::new(),
-                p => {
-                    let text = read(p).map_err(|e| {
-                        format!("{e} (the templates seeding the task network; give --seed-templates FILE, or none)")
-                    })?;
-                    TemplateFile::from_json(&text)
-                        .map_err(|e| format!("{}: {e}", p.display()))?
-                        .templates
-                }
-            };
+            let p = &args.seed_templates;
+            if p.as_os_str() != "none" {
+                let text = read(p).map_err(|e| {
+                    format!("{e} (the templates seeding the task network; give --seed-templates FILE, or none)")
+                })?;
+                templates = TemplateFile::from_json(&text)
+                    .map_err(|e| format!("{}: {e}", p.display()))?
+                    .templates;
+            }
             Some((
                 "task network",
-                planner.plan_learned_with(&task, &net, &seeds, &ts),
+                planner.plan_learned_with(&task, &net, &templates, &ts),
             ))
         }
         (None, true) => None,
@@ -261,6 +263,23 @@ fn run(args: Args) -> Result<(), String> {
         plan.digs.len(),
         plan.planning_seconds * 1e3
     );
+    if let Some(origin) = plan.origin {
+        let stored = match origin {
+            Origin::Template { index } => templates.get(index).map(|t| t.task),
+            Origin::Network { .. } => None,
+        };
+        match stored {
+            Some(t) => println!(
+                "  grown from {origin}, whose task is L {:.3} m, D {:.3} m, β1 {:.1}°, β2 {:.1}°, far edge {:.3} m",
+                t.length,
+                t.depth,
+                to_deg(t.slope_far),
+                to_deg(t.slope_near),
+                t.far_edge
+            ),
+            None => println!("  grown from {origin}"),
+        }
+    }
     for r in &plan.digs {
         let d = &r.dig;
         println!(
