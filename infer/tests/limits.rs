@@ -464,3 +464,35 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+    /// The template refit screens each candidate under the limits at the
+    /// samples before playing it in continuous time. That is sound because
+    /// at the samples a dig carves the same, reports the same objective
+    /// and breaks its limits by no more than in continuous time: a dig
+    /// turned down at the samples is turned down in continuous time too.
+    #[test]
+    fn the_sampled_checks_bound_the_continuous_ones(
+        bend in prop::array::uniform3(-5e-5f64..5e-5),
+        scale in 0.8f64..1.5,
+    ) {
+        let sampled = Config::default();
+        let q = reference_query(&sampled);
+        let terrain = flat(&sampled, q.surface);
+        let task = q.task();
+        let mut y = REFERENCE_Y;
+        y[..3].iter_mut().zip(bend).for_each(|(b, d)| *b += d);
+        let y = rescale(&DigParams::from_array(y), scale);
+        let (mut buf, mut cbuf) = (CarveBuffer::default(), CarveBuffer::default());
+        let Ok(s) = assess(&sampled, &task, &y, ground(&terrain), &mut buf, None) else {
+            return Ok(());
+        };
+        let c = assess(&continuous(), &task, &y, ground(&terrain), &mut cbuf, None).unwrap();
+        prop_assert_eq!(s.report.objective, c.report.objective);
+        prop_assert_eq!(buf.window(), cbuf.window());
+        prop_assert!(s.violation <= c.violation, "{} > {}", s.violation, c.violation);
+        prop_assert!(s.feasible || !c.feasible);
+    }
+}

@@ -134,11 +134,12 @@ impl Template {
 pub struct TemplateSettings {
     /// The nearest templates carried over and tried as seeds (1 to [`MAX_NEIGHBOURS`]).
     pub neighbours: usize,
-    /// Most exact dig evaluations of the whole task, seeds included: the
-    /// bound on its planning time (each costs 15–30 µs here). The default,
-    /// 4,800 (70 ms on mean here), gave the least under-dug area over the
-    /// 24 evaluation tasks of 300–9,600; 1,200 takes a third of the time
-    /// for about one point more.
+    /// Most exact dig evaluations of the whole task, seeds included, a
+    /// refit's screens at the samples counted as well as its plays in
+    /// continuous time: the bound on its planning time (each costs
+    /// 10–30 µs here). The default, 4,800, gave the least under-dug area
+    /// over the 24 evaluation tasks of 300–9,600; 1,200 takes a third of
+    /// the time for about one point more.
     pub max_evaluations: usize,
     /// Weight of the digs' mean objective next to the under- plus
     /// over-dug fraction that the refit minimises.

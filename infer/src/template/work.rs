@@ -2,6 +2,7 @@
 //! digs on, over the window of terrain the plan may carve.
 
 use super::{DigScore, MAX_TEMPLATE_DIGS, Played, Side, TemplateWork, WINDOW};
+use crate::config::Config;
 use crate::dig::Reference;
 use crate::error::Error;
 use crate::planner::Planner;
@@ -105,7 +106,36 @@ impl TemplateWork {
         weight_objective: f64,
         feasible_only: bool,
     ) -> bool {
-        let cfg = planner.config();
+        self.play_under(planner.config(), from, weight_objective, feasible_only)
+    }
+
+    /// [`Self::play`] under the limits at the time samples only
+    /// ([`Config::continuous_limits`] off): the same carving and value,
+    /// and a violation no larger than the planner's, for about two thirds
+    /// of the work. Why: a candidate that breaks a limit at the samples,
+    /// or is no better there, is no better in continuous time either, so
+    /// it is turned down without the checks between the samples.
+    pub(super) fn screen(
+        &mut self,
+        planner: &Planner,
+        from: usize,
+        weight_objective: f64,
+        feasible_only: bool,
+    ) -> bool {
+        let sampled = Config {
+            continuous_limits: false,
+            ..*planner.config()
+        };
+        self.play_under(&sampled, from, weight_objective, feasible_only)
+    }
+
+    fn play_under(
+        &mut self,
+        cfg: &Config,
+        from: usize,
+        weight_objective: f64,
+        feasible_only: bool,
+    ) -> bool {
         self.load(Side::Candidate, from);
         let (j0, w) = self.window;
         let p = &mut self.candidate;
