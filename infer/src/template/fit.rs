@@ -8,6 +8,7 @@
 
 use super::search::retiming;
 use super::{Champion, Steps, TemplateSettings, TemplateWork};
+use crate::config::Config;
 use crate::planner::Planner;
 use crate::sequence::{DigVars, Refit, better, compass, search_box};
 
@@ -15,6 +16,10 @@ use crate::sequence::{DigVars, Refit, better, compass, search_box};
 struct Refitting<'a> {
     work: &'a mut TemplateWork,
     planner: &'a Planner,
+    /// The planner's model with the limits checked at the time samples
+    /// only ([`Config::continuous_limits`] off): the same carving and
+    /// value, and a violation no larger, for about two thirds of the work.
+    screen: Config,
     weight_objective: f64,
 }
 
@@ -48,7 +53,7 @@ impl Refit for Refitting<'_> {
         let feasible_only = w.best.violation == 0.0;
         // Screened at the samples first: most candidates end there.
         let weight = self.weight_objective;
-        if !w.screen(self.planner, j, weight, feasible_only)
+        if !w.play_under(&self.screen, j, weight, feasible_only)
             || !better(w.candidate.violation, w.candidate.value, best.0, best.1)
         {
             return None;
@@ -77,6 +82,10 @@ impl TemplateWork {
         let mut r = Refitting {
             work: self,
             planner,
+            screen: Config {
+                continuous_limits: false,
+                ..*planner.config()
+            },
             weight_objective: settings.weight_objective,
         };
         compass(&mut r, &lo, &hi, steps, limit, settings.min_step);

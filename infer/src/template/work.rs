@@ -109,27 +109,8 @@ impl TemplateWork {
         self.play_under(planner.config(), from, weight_objective, feasible_only)
     }
 
-    /// [`Self::play`] under the limits at the time samples only
-    /// ([`Config::continuous_limits`] off): the same carving and value,
-    /// and a violation no larger than the planner's, for about two thirds
-    /// of the work. Why: a candidate that breaks a limit at the samples,
-    /// or is no better there, is no better in continuous time either, so
-    /// it is turned down without the checks between the samples.
-    pub(super) fn screen(
-        &mut self,
-        planner: &Planner,
-        from: usize,
-        weight_objective: f64,
-        feasible_only: bool,
-    ) -> bool {
-        let sampled = Config {
-            continuous_limits: false,
-            ..*planner.config()
-        };
-        self.play_under(&sampled, from, weight_objective, feasible_only)
-    }
-
-    fn play_under(
+    /// [`Self::play`] under the model `cfg`.
+    pub(super) fn play_under(
         &mut self,
         cfg: &Config,
         from: usize,
