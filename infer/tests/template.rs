@@ -334,3 +334,35 @@ fn tasks_across_the_range_give_feasible_plans_or_named_failures() {
         "{planned} of 12 planned: {failed:#?}"
     );
 }
+
+/// The refit screens moves by their carving alone (`carve_dig`): over
+/// the first 100 shipped templates' plans, each dig also moved 1 cm
+/// along, the carving alone leaves the surface the full evaluation
+/// leaves, bit for bit, and the same volume, and fails where it fails.
+#[test]
+fn carving_alone_carves_as_the_full_evaluation() {
+    let planner = planner();
+    let cfg = planner.config();
+    let (mut full, mut alone) = (CarveBuffer::default(), CarveBuffer::default());
+    let mut compared = 0;
+    for t in shipped_templates().iter().take(100) {
+        let design = infer::DesignProfile::new(cfg, &t.task);
+        let guard = planner.guard(&design);
+        for shift in [0.0, 0.01] {
+            let mut terrain = planner.initial_terrain(&design).unwrap();
+            for v in &t.carried_to(cfg, &design)[..t.digs().len()] {
+                let mut v = *v;
+                v[1] += shift;
+                let played = infer::sequence::play_dig(cfg, &guard, &v, &terrain, &mut full);
+                let carved = infer::sequence::carve_dig(cfg, &v, &terrain, &mut alone);
+                assert_eq!(played.is_some(), carved.is_some(), "{v:?}");
+                let Some((_, _, a)) = played else { break };
+                assert_eq!(carved, Some(a.report.volume));
+                assert_eq!(full.window(), alone.window());
+                terrain.commit(&full);
+                compared += 1;
+            }
+        }
+    }
+    assert!(compared > 400, "{compared} digs compared");
+}

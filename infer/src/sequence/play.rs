@@ -66,3 +66,21 @@ pub fn play_dig_to_beat(
     };
     Some((dig, query, a))
 }
+
+/// The carving alone of the dig that `v` stands for on `terrain`
+/// ([`crate::dig::carve`]), left in `carve`: the cut [`play_dig`] makes,
+/// for about half the work. `None` where [`play_dig`] finds the dig
+/// unevaluable.
+pub fn carve_dig(
+    cfg: &Config,
+    v: &[f64],
+    terrain: &Terrain,
+    carve: &mut CarveBuffer,
+) -> Option<f64> {
+    let (dig, query) = query_of(cfg, v, terrain)?;
+    let ground = Ground {
+        terrain,
+        base_x: 0.0,
+    };
+    crate::dig::carve(cfg, &query.task(), &dig.params, ground, carve).ok()
+}

@@ -1,10 +1,16 @@
 //! Fit: the compass search ([`crate::sequence::compass`]) refits the best
 //! sequence; a move of dig k replays digs k.. only, on the surfaces the
-//! digs before it left. Each move is screened under the limits at the
-//! time samples and played in continuous time only if it beats the best
-//! there (about one in six on tasks A–D): the checks between samples
-//! took a third of the refit's time, and a move that cannot beat the
-//! best at the samples cannot in continuous time.
+//! digs before it left.
+//!
+//! Each move is screened and played in continuous time only if it beats
+//! the best there. Against a feasible best (with no weight on the digs'
+//! objective), the screen carves the digs alone: the value is the final
+//! surface's, and a move no better there cannot be better played; about
+//! one in five passes on tasks A–D, half of those then breaking a limit
+//! (mostly torque). Otherwise the screen plays the digs under the limits
+//! at the samples, whose violation is never above the continuous one's.
+//! Together they cut the median plan over eval's 64 tasks from about 100
+//! to 63 ms for the same bound.
 
 use super::search::retiming;
 use super::{Champion, Steps, TemplateSettings, TemplateWork};
@@ -51,11 +57,17 @@ impl Refit for Refitting<'_> {
         w.candidate.score[..j].copy_from_slice(&w.best.score[..j]);
         w.candidate.after[j] = w.best.after[j];
         let feasible_only = w.best.violation == 0.0;
-        // Screened at the samples first: most candidates end there.
         let weight = self.weight_objective;
-        if !w.play_under(&self.screen, j, weight, feasible_only)
-            || !better(w.candidate.violation, w.candidate.value, best.0, best.1)
-        {
+        // Screened first, played in continuous time only if it beats the
+        // best there: against a feasible best, by its carving alone (its
+        // value is its final surface's), else at the samples.
+        let screened = if feasible_only && weight == 0.0 {
+            w.sweep(&self.screen, j) && w.candidate.value < best.1
+        } else {
+            w.play_under(&self.screen, j, weight, feasible_only)
+                && better(w.candidate.violation, w.candidate.value, best.0, best.1)
+        };
+        if !screened {
             return None;
         }
         let played = w.play(self.planner, j, self.weight_objective, feasible_only);

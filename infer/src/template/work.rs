@@ -7,7 +7,7 @@ use crate::dig::Reference;
 use crate::error::Error;
 use crate::planner::Planner;
 use crate::retime::RetimeWork;
-use crate::sequence::{DIG_VARS, UNEVALUABLE, play_dig_to_beat};
+use crate::sequence::{DIG_VARS, UNEVALUABLE, carve_dig, play_dig_to_beat};
 use crate::terrain::{CarveBuffer, Terrain};
 use crate::trench::{DesignProfile, ProfileMetrics, TrenchTask};
 
@@ -162,6 +162,37 @@ impl TemplateWork {
             .fold((0.0, 0.0), |a, s| (a.0 + s.violation, a.1 + s.objective));
         p.violation = violation;
         p.value = m.under_dug + m.over_dug + weight_objective * objective / n as f64;
+        true
+    }
+
+    /// The candidate's digs from dig `from` on carved alone ([`carve_dig`]),
+    /// each counted as an evaluation, and its value with no weight on the
+    /// digs' objective (its violation is left unknown): false if a dig
+    /// cannot be played, carves outside the window or breaks its volume
+    /// check. Why: the value is then the final surface's, the same as
+    /// [`Self::play`]'s, so a candidate no better there than a feasible
+    /// best is turned down for about half the work.
+    pub(super) fn sweep(&mut self, cfg: &Config, from: usize) -> bool {
+        self.load(Side::Candidate, from);
+        let (j0, w) = self.window;
+        let p = &mut self.candidate;
+        let n = p.count;
+        for j in from..n {
+            self.evaluations += 1;
+            self.dig_evaluations[j] += 1;
+            let volume = carve_dig(cfg, &p.vars[j], &self.terrain, &mut self.carve);
+            let (lo, window) = self.carve.window();
+            let [v_min, v_max] = cfg.objective.volume;
+            // Unplayable, outside the window, or breaking its volume check.
+            let fails = volume.is_none_or(|v| v < v_min || v > v_max);
+            if fails || lo < j0 || lo + window.len() > j0 + w {
+                self.evaluations += n - j - 1;
+                return false;
+            }
+            self.terrain.commit(&self.carve);
+        }
+        let m = self.design.compare(&self.terrain);
+        p.value = m.under_dug + m.over_dug;
         true
     }
 
