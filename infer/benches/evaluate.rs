@@ -3,8 +3,9 @@
 //! recorded evaluation, the search on the record, one exact check), and
 //! the same dig stretched to its fastest first (`record_fastest`: the
 //! trajectory's peaks, one recorded evaluation there, the search); one
-//! evaluation with the limits in continuous time, and the exact joint
-//! extrema alone (`infer::limits`).
+//! evaluation with the limits in continuous time, the carving alone
+//! (`infer::dig::carve`), and the exact joint extrema alone
+//! (`infer::limits`).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use infer::retime::{RetimeWork, best_stretch, record_fastest, retime};
@@ -45,6 +46,14 @@ fn bench(c: &mut Criterion) {
                     &mut buf,
                 )
                 .unwrap(),
+            )
+        })
+    });
+    // The carving alone, as the template refit screens its moves.
+    c.bench_function("carve_dig_alone", |b| {
+        b.iter(|| {
+            black_box(
+                infer::dig::carve(&cfg, black_box(&task), black_box(&y), ground, &mut buf).unwrap(),
             )
         })
     });

@@ -12,7 +12,8 @@
 mod excavator;
 pub mod walk;
 
-pub(crate) use excavator::{Cutoff, carve, walk};
+pub use excavator::carve;
+pub(crate) use excavator::{Cutoff, walk};
 pub(crate) use walk::sample_time;
 
 use crate::config::Config;

@@ -69,7 +69,7 @@ pub fn play_dig_to_beat(
 
 /// The carving alone of the dig that `v` stands for on `terrain`
 /// ([`crate::dig::carve`]), left in `carve`: the cut [`play_dig`] makes,
-/// for about half the work. `None` where [`play_dig`] finds the dig
+/// for about a third of the work. `None` where [`play_dig`] finds the dig
 /// unevaluable.
 pub fn carve_dig(
     cfg: &Config,

@@ -137,7 +137,7 @@ pub struct TemplateSettings {
     /// Most exact dig evaluations of the whole task, seeds included, a
     /// refit's screens at the samples counted as well as its plays in
     /// continuous time: the bound on its planning time (each costs
-    /// 10–30 µs here). The default, 4,800, gave the least under-dug area
+    /// 5–30 µs here). The default, 4,800, gave the least under-dug area
     /// over the 24 evaluation tasks of 300–9,600; 1,200 takes a third of
     /// the time for about one point more.
     pub max_evaluations: usize,

@@ -171,7 +171,7 @@ impl TemplateWork {
     /// cannot be played, carves outside the window or breaks its volume
     /// check. Why: the value is then the final surface's, the same as
     /// [`Self::play`]'s, so a candidate no better there than a feasible
-    /// best is turned down for about half the work.
+    /// best is turned down for about a third of the work.
     pub(super) fn sweep(&mut self, cfg: &Config, from: usize) -> bool {
         self.load(Side::Candidate, from);
         let (j0, w) = self.window;
