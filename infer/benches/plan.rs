@@ -12,12 +12,13 @@
 //! - `task_X_bounded`: the default settings with at most 40 exact
 //!   evaluations per dig (`max_evaluations`): a controller's deadline.
 //! - `template_task_X[_N]`: the template planner (`artifacts/templates.json`)
-//!   with the default bound of 4,800 exact evaluations per task, and with
+//!   with the default bound (9,600 exact evaluations per task), and with
 //!   N; the work is allocated once, as a controller would.
 //! - `learned_task_X[_N]`: the learned planner as `plan` runs it
 //!   (`artifacts/task_network/seed_1.json`, the nearest of the shipped
 //!   templates seeding it too): its sequences checked and refitted within
-//!   the least bound (100 exact evaluations) and within N.
+//!   the least bound (100 exact evaluations) and within N (9,600: the
+//!   default).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use infer::network::NetworkFile;
@@ -115,7 +116,8 @@ fn bench(c: &mut Criterion) {
     let templates = shipped_templates();
     let planner = Planner::new(&cfg, &PlannerSettings::default()).unwrap();
     let mut work = Box::new(TemplateWork::new(&planner).unwrap());
-    for (suffix, max_evaluations) in [("", 4800), ("_1200", 1200), ("_300", 300)] {
+    let default = TemplateSettings::default().max_evaluations;
+    for (suffix, max_evaluations) in [("", default), ("_1200", 1200), ("_300", 300)] {
         let settings = TemplateSettings {
             max_evaluations,
             ..TemplateSettings::default()
@@ -155,7 +157,13 @@ fn bench_learned(c: &mut Criterion) {
     let templates = shipped_templates();
     let planner = Planner::new(&Config::default(), &PlannerSettings::default()).unwrap();
     let mut work = Box::new(TemplateWork::new(&planner).unwrap());
-    for (suffix, max_evaluations) in [("", MIN_EVALUATIONS), ("_1200", 1200), ("_4800", 4800)] {
+    let bounds = [
+        ("", MIN_EVALUATIONS),
+        ("_1200", 1200),
+        ("_4800", 4800),
+        ("_9600", 9600),
+    ];
+    for (suffix, max_evaluations) in bounds {
         let settings = TemplateSettings {
             max_evaluations,
             ..TemplateSettings::default()
