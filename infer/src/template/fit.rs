@@ -70,7 +70,7 @@ impl Refit for Refitting<'_> {
         if !screened {
             return None;
         }
-        let played = w.play(self.planner, j, self.weight_objective, feasible_only);
+        let played = w.play(self.planner, j, weight, feasible_only);
         played.then_some((w.candidate.violation, w.candidate.value))
     }
 
