@@ -176,6 +176,30 @@ enum Command {
         #[arg(long, default_value = "artifacts/learned")]
         out: PathBuf,
     },
+    /// The learned planner, as `plan` runs it, at a ladder of bounds on
+    /// exact evaluations, per task network, on `learned`'s tasks: the
+    /// figures against planning time, into OUT/report.{md,json} and
+    /// OUT/bounds.svg.
+    Bounds {
+        /// Folder of the task networks (seed_<s>.json, `train_tasks`).
+        #[arg(long, default_value = "artifacts/task_network")]
+        networks: PathBuf,
+        /// Templates seeding the planner as `plan` seeds it (`none`: the
+        /// network's seeds alone).
+        #[arg(long, default_value = "artifacts/templates.json")]
+        templates: String,
+        /// The bounds, comma-separated (each at least 100).
+        #[arg(long, value_delimiter = ',', default_values_t = eval::learned::bounds::DEFAULT_BOUNDS)]
+        bounds: Vec<usize>,
+        /// Fresh random tasks from the library's wide ranges.
+        #[arg(long, default_value_t = 40)]
+        fresh: usize,
+        /// Seed of the fresh tasks (the library's is 7).
+        #[arg(long, default_value_t = 11)]
+        fresh_seed: u64,
+        #[arg(long, default_value = "artifacts/bounds")]
+        out: PathBuf,
+    },
     /// Measure latency and accuracy figures into OUT/benchmarks.{json,md}.
     BenchSummary {
         #[arg(long, default_value = "artifacts")]
@@ -349,6 +373,23 @@ fn run(cli: Cli) -> Result<(), EvalError> {
                 &networks, &compared, &settings, fresh, fresh_seed, &out, progress,
             )?
         }
+        Command::Bounds {
+            networks,
+            templates,
+            bounds: ladder,
+            fresh,
+            fresh_seed,
+            out,
+        } => {
+            let templates =
+                TemplatePlanning::load_arg(&templates).map_err(EvalError::BadArgument)?;
+            let ladder = eval::learned::bounds::Ladder {
+                bounds: &ladder,
+                templates: &templates,
+                settings: TemplateSettings::default(),
+            };
+            bounds(&networks, &ladder, fresh, fresh_seed, &out, progress)?
+        }
         Command::BenchSummary {
             networks,
             out,
@@ -377,18 +418,6 @@ fn read_json<T: serde::de::DeserializeOwned>(path: &std::path::Path) -> Result<T
     serde_json::from_str(&text).map_err(|e| bad(e.to_string()))
 }
 
-/// The training seed of a task network file `seed_<s>.json` (what
-/// `train_tasks` writes); `None` for any other file, such as its
-/// `seed_<s>.run.json` resume records.
-fn network_seed(path: &std::path::Path) -> Option<u64> {
-    let name = path.file_name()?.to_str()?;
-    let digits = name.strip_prefix("seed_")?.strip_suffix(".json")?;
-    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
-        return None;
-    }
-    digits.parse().ok()
-}
-
 /// `eval learned`: see [`Command::Learned`].
 fn learned(
     networks: &std::path::Path,
@@ -399,40 +428,8 @@ fn learned(
     out: &std::path::Path,
     progress: bool,
 ) -> Result<(), EvalError> {
-    use eval::tasks::{RandomRanges, random_tasks, task_set};
-    let planner = infer::Planner::new(&infer::Config::default(), &Default::default())?;
-    let defaults = EvalSettings::default();
-    let mut tasks = task_set(
-        &planner,
-        defaults.random_tasks,
-        defaults.seed,
-        &defaults.ranges,
-    )?;
-    for mut t in random_tasks(&planner, fresh, fresh_seed, &RandomRanges::WIDE)? {
-        t.name = t.name.replacen('R', "F", 1);
-        tasks.push(t);
-    }
-    let mut files = Vec::new();
-    let mut paths: Vec<(u64, PathBuf)> = std::fs::read_dir(networks)
-        .map_err(|e| EvalError::BadArgument(format!("{}: {e}", networks.display())))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter_map(|p| Some((network_seed(&p)?, p)))
-        .collect();
-    paths.sort();
-    for (_, p) in paths {
-        let text = std::fs::read_to_string(&p)
-            .map_err(|e| EvalError::BadArgument(format!("{}: {e}", p.display())))?;
-        files.push(
-            infer::template::TaskNetworkFile::from_json(&text)
-                .map_err(|e| EvalError::BadArgument(format!("{}: {e}", p.display())))?,
-        );
-    }
-    if files.is_empty() {
-        return Err(EvalError::BadArgument(format!(
-            "{}: no seed_<s>.json task network (train_tasks writes them)",
-            networks.display()
-        )));
-    }
+    let j = eval::learned::Judged::load(networks, fresh, fresh_seed)?;
+    let (tasks, files) = (&j.tasks, &j.networks);
     // Per network: as `plan` runs it, the least bound and, with
     // templates, its seeds alone; then the templates and the greedy planner.
     let with_templates = usize::from(!compared.templates.is_empty());
@@ -442,9 +439,9 @@ fn learned(
             + usize::from(compared.dig_networks.is_some()));
     let bar = dataset_gen::jobs::progress_bar(runs as u64, "plans", progress);
     let report = eval::learned::compare(
-        &planner,
-        &tasks,
-        &files,
+        &j.planner,
+        tasks,
+        files,
         compared,
         settings,
         &bar,
@@ -456,22 +453,28 @@ fn learned(
     Ok(())
 }
 
-#[cfg(test)]
-mod tests {
-    use super::network_seed;
-    use std::path::Path;
-
-    #[test]
-    fn only_seed_files_are_task_networks() {
-        assert_eq!(network_seed(Path::new("a/seed_12.json")), Some(12));
-        for other in [
-            "seed_1.run.json",
-            "seed_.json",
-            "seed_1.json.part",
-            "report.json",
-            "seed_x.json",
-        ] {
-            assert_eq!(network_seed(Path::new(other)), None, "{other}");
-        }
-    }
+/// `eval bounds`: see [`Command::Bounds`].
+fn bounds(
+    networks: &std::path::Path,
+    ladder: &eval::learned::bounds::Ladder<'_>,
+    fresh: usize,
+    fresh_seed: u64,
+    out: &std::path::Path,
+    progress: bool,
+) -> Result<(), EvalError> {
+    let j = eval::learned::Judged::load(networks, fresh, fresh_seed)?;
+    let runs = j.tasks.len() * j.networks.len() * ladder.bounds.len();
+    let bar = dataset_gen::jobs::progress_bar(runs as u64, "plans", progress);
+    let report = eval::learned::bounds::sweep(
+        &j.planner,
+        &j.tasks,
+        &j.networks,
+        ladder,
+        &bar,
+        &command_line(),
+    )?;
+    bar.finish_and_clear();
+    report.write(out)?;
+    print!("{}", report.markdown());
+    Ok(())
 }
