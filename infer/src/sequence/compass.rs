@@ -26,6 +26,12 @@ pub trait Refit<const N: usize = DIG_VARS> {
     fn play(&mut self, j: usize, i: usize, value: f64) -> Option<(f64, f64)>;
     /// The candidate last played becomes the best.
     fn accept(&mut self, j: usize);
+    /// Whether moving variable `i` can change the best's score now. One
+    /// that cannot is not played (and so not spent on) and does not hold
+    /// the search open.
+    fn moves(&self, _i: usize) -> bool {
+        true
+    }
 }
 
 /// The compass search's first steps: 5 % of each variable's range.
@@ -47,7 +53,8 @@ pub fn initial_step<const N: usize>(lo: &[f64; N], hi: &[f64; N]) -> [f64; N] {
 /// the steps reached. A variable whose range is empty never moves.
 ///
 /// Variable 0 of a dig, its type, never moves: a dig's type follows from
-/// its path ([`super::query_of`]), so a move of it would change nothing.
+/// its path ([`super::query_of`]), so a move of it would change nothing;
+/// nor does a variable [`Refit::moves`] rules out.
 pub fn compass<const N: usize, R: Refit<N> + ?Sized>(
     r: &mut R,
     lo: &[f64; N],
@@ -63,7 +70,7 @@ pub fn compass<const N: usize, R: Refit<N> + ?Sized>(
     loop {
         for j in (0..n).rev() {
             for i in 0..N {
-                if i == TYPE || settled(steps[j][i], min_step[i]) {
+                if i == TYPE || !r.moves(i) || settled(steps[j][i], min_step[i]) {
                     continue;
                 }
                 let mut gained = false;
@@ -95,7 +102,7 @@ pub fn compass<const N: usize, R: Refit<N> + ?Sized>(
         }
         if steps[..n]
             .iter()
-            .all(|d| (0..N).all(|i| i == TYPE || settled(d[i], min_step[i])))
+            .all(|d| (0..N).all(|i| i == TYPE || !r.moves(i) || settled(d[i], min_step[i])))
         {
             return;
         }
@@ -112,6 +119,8 @@ mod tests {
         candidate: [[f64; 2]; 1],
         spent: usize,
         type_moves: usize,
+        /// Whether x may move ([`Refit::moves`]).
+        x_moves: bool,
     }
 
     impl Refit<2> for Toy {
@@ -138,21 +147,40 @@ mod tests {
         fn accept(&mut self, _: usize) {
             self.best = self.candidate;
         }
+        fn moves(&self, i: usize) -> bool {
+            i != 1 || self.x_moves
+        }
+    }
+
+    fn toy(x_moves: bool) -> Toy {
+        Toy {
+            best: [[0.9, 0.8]],
+            candidate: [[0.0; 2]],
+            spent: 0,
+            type_moves: 0,
+            x_moves,
+        }
     }
 
     #[test]
     fn the_search_fits_every_variable_but_the_type() {
         let (lo, hi) = ([0.0, 0.0], [1.0, 1.0]);
-        let mut toy = Toy {
-            best: [[0.9, 0.8]],
-            candidate: [[0.0; 2]],
-            spent: 0,
-            type_moves: 0,
-        };
+        let mut toy = toy(true);
         let mut steps = [initial_step(&lo, &hi)];
         compass(&mut toy, &lo, &hi, &mut steps, 10_000, 1e-6);
         assert!((toy.best[0][1] - 0.3).abs() < 1e-5, "{:?}", toy.best);
         assert_eq!((toy.best[0][0], toy.type_moves), (0.9, 0));
         assert!(toy.spent < 10_000, "it settles");
+    }
+
+    #[test]
+    fn a_variable_that_cannot_change_the_score_is_never_played() {
+        let (lo, hi) = ([0.0, 0.0], [1.0, 1.0]);
+        let mut toy = toy(false);
+        let mut steps = [initial_step(&lo, &hi)];
+        // Returns at once: nothing left to move, nothing spent.
+        compass(&mut toy, &lo, &hi, &mut steps, 10_000, 1e-6);
+        assert_eq!((toy.spent, toy.best), (0, [[0.9, 0.8]]));
+        assert_eq!(steps, [initial_step(&lo, &hi)], "its step is kept");
     }
 }

@@ -28,6 +28,7 @@ pub use deb::{better, compare};
 pub use nearest::{MAX_NEIGHBOURS, features, nearest};
 pub use play::{UNEVALUABLE, carve_dig, play_dig, play_dig_to_beat, query_of};
 pub use vars::{
-    DIG_VARS, DigVars, SKEW_PEAK, SKEW_RANGE, SPEC_VARS, SequenceDig, bend_scale, bends_of, decode,
-    dig_box, encode, params_from_bends, search_box, skewed_box, skews_of, vars_per_dig, with_skews,
+    DIG_VARS, DURATION, DigVars, SKEW_PEAK, SKEW_RANGE, SPEC_VARS, SequenceDig, bend_scale,
+    bends_of, decode, dig_box, encode, params_from_bends, search_box, skewed_box, skews_of,
+    vars_per_dig, with_skews,
 };

@@ -15,6 +15,11 @@ use crate::trench::DesignProfile;
 /// give and old files hold.
 pub const SPEC_VARS: usize = 10;
 
+/// The index of T among a dig's variables. T alone moves no part of the
+/// dig's path (the bends and skews are given per half-T power and per
+/// peak), so it changes the carving only in the last bits.
+pub const DURATION: usize = 9;
+
 /// Variables per dig: the [`SPEC_VARS`], then the skews k1–k3 of the
 /// extension ([`crate::trajectory`]), each the largest angle (rad) by which
 /// a_i7 moves joint i, so skews of digs of any T compare. A dig of the
@@ -115,9 +120,9 @@ pub fn decode(v: &[f64], terrain: &Terrain) -> Option<SequenceDig> {
         },
         params: match skews {
             Some(k) if k.iter().any(|&k| k != 0.0) => {
-                with_skews(&params_from_bends([v[6], v[7], v[8]], v[9]), k)
+                with_skews(&params_from_bends([v[6], v[7], v[8]], v[DURATION]), k)
             }
-            _ => params_from_bends([v[6], v[7], v[8]], v[9]),
+            _ => params_from_bends([v[6], v[7], v[8]], v[DURATION]),
         },
     })
 }

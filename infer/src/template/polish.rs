@@ -4,7 +4,7 @@ use super::{MAX_TEMPLATE_DIGS, Side, TemplateSettings, TemplateWork};
 use crate::dig::Ground;
 use crate::planner::Planner;
 use crate::retime::best_stretch;
-use crate::sequence::query_of;
+use crate::sequence::{DURATION, query_of};
 
 /// How much worse (as a fraction of the design area) a retimed plan's
 /// profile may come out through rounding alone.
@@ -39,7 +39,7 @@ impl TemplateWork {
                 &mut self.retime,
             );
             if let Ok((_, Some(s))) = found {
-                vars[j][9] = dig.params.duration * s.k;
+                vars[j][DURATION] = dig.params.duration * s.k;
                 stretch[j] = s.k;
             }
         }
