@@ -8,14 +8,15 @@ use crate::evaluation::EvalReport;
 use plotters::prelude::*;
 use std::path::Path;
 
-const COLOURS: [RGBColor; 4] = [
+/// One colour per series, in order (shared by every picture of the crate).
+pub(crate) const COLOURS: [RGBColor; 4] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
     RGBColor(44, 160, 44),
     RGBColor(214, 39, 40),
 ];
 
-fn plot_error(path: &Path) -> impl Fn(String) -> EvalError + '_ {
+pub(crate) fn plot_error(path: &Path) -> impl Fn(String) -> EvalError + '_ {
     move |detail| EvalError::Plot {
         path: path.to_path_buf(),
         detail,

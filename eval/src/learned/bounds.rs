@@ -7,6 +7,7 @@
 
 use super::{PlannerTotals, row, totals};
 use crate::error::{EvalError, write_file, write_json};
+use crate::plots::{COLOURS, plot_error};
 use crate::tasks::NamedTask;
 use infer::Planner;
 use infer::template::{MIN_EVALUATIONS, TaskNetworkFile, Template, TemplateSettings};
@@ -178,10 +179,7 @@ impl BoundsReport {
     /// Two panels against the median planning time (log scale): tasks
     /// within 3 % and mean under-dug, one line per seed, with the goals.
     fn plot(&self, path: &Path) -> Result<(), EvalError> {
-        let e = |x: String| EvalError::Plot {
-            path: path.to_path_buf(),
-            detail: x,
-        };
+        let e = plot_error(path);
         let ms = |p: &BoundPoint| p.totals.median_planning_ms;
         let finite: Vec<&BoundPoint> = self.points.iter().filter(|p| ms(p).is_finite()).collect();
         let lo = finite.iter().map(|p| ms(p)).fold(1.0f64, f64::min) * 0.7;
@@ -194,12 +192,6 @@ impl BoundsReport {
         let root = SVGBackend::new(path, (1000, 460)).into_drawing_area();
         root.fill(&WHITE).map_err(|x| e(x.to_string()))?;
         let panels = root.split_evenly((1, 2));
-        let colours = [
-            RGBColor(31, 119, 180),
-            RGBColor(255, 127, 14),
-            RGBColor(44, 160, 44),
-            RGBColor(214, 39, 40),
-        ];
         let seeds = self.seeds();
         for (k, area) in panels.iter().enumerate() {
             let (caption, y_desc, top, goal) = if k == 0 {
@@ -240,7 +232,7 @@ impl BoundsReport {
                 .label("goal: 1 ms")
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 14, y)], grey));
             for (i, s) in seeds.iter().enumerate() {
-                let colour = colours[i % colours.len()];
+                let colour = COLOURS[i % COLOURS.len()];
                 let line: Vec<(f64, f64)> = finite
                     .iter()
                     .filter(|p| p.seed == *s)
