@@ -321,7 +321,9 @@ impl<const N: usize> Refit<N> for Polish<'_, '_> {
 }
 
 /// A polish ends when every step is below this fraction of its
-/// variable's range (the template planner's default).
+/// variable's range: the template planner's first default, kept here
+/// because the shipped library was polished with it (the planner's
+/// refit now settles finer, `infer::template::TemplateSettings::min_step`).
 const POLISH_MIN_STEP: f64 = 1e-3;
 
 /// infer's compass search ([`infer::sequence::compass`]) from `start`, at
