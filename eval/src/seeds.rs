@@ -85,70 +85,72 @@ pub struct SeedGoal {
 
 /// How a figure is printed.
 #[derive(Clone, Copy)]
-enum Unit {
+pub(crate) enum Unit {
     Percent,
     Ratio,
     Count,
+    Milliseconds,
 }
 
-/// A figure, how to print it, and its target.
-struct Figure {
-    what: &'static str,
-    target: &'static str,
-    unit: Unit,
-    value: fn(&SeedFigures) -> Option<f64>,
-    within: fn(f64) -> bool,
+/// A figure of one seed's record `S`, how to print it, and its target
+/// (`within: None`: shown for context, no goal).
+pub(crate) struct Figure<S> {
+    pub what: &'static str,
+    pub target: &'static str,
+    pub unit: Unit,
+    pub value: fn(&S) -> Option<f64>,
+    pub within: Option<fn(f64) -> bool>,
 }
 
-const FIGURES: [Figure; 7] = [
+const FIGURES: [Figure<SeedFigures>; 7] = [
     Figure {
         what: "downward network's mean objective / the optimiser's, test split",
         target: "≥ 97 %",
         unit: Unit::Percent,
         value: |s| Some(s.relative_performance[0]),
-        within: |v| v >= 0.97,
+        within: Some(|v| v >= 0.97),
     },
     Figure {
         what: "backward network's, the same",
         target: "≥ 97 %",
         unit: Unit::Percent,
         value: |s| Some(s.relative_performance[1]),
-        within: |v| v >= 0.97,
+        within: Some(|v| v >= 0.97),
     },
     Figure {
         what: "network alone on PSO's problem: objective / PSO's",
         target: "≤ 1.02",
         unit: Unit::Ratio,
         value: |s| s.alone_vs_pso,
-        within: |v| v <= 1.02,
+        within: Some(|v| v <= 1.02),
     },
     Figure {
         what: "planner's digs / PSO held to the same design guard",
         target: "≤ 1.02",
         unit: Unit::Ratio,
         value: |s| s.vs_pso_guarded,
-        within: |v| v <= 1.02,
+        within: Some(|v| v <= 1.02),
     },
     Figure {
         what: "planner's digs / plain PSO",
         target: "≤ 1.02",
         unit: Unit::Ratio,
         value: |s| s.vs_pso,
-        within: |v| v <= 1.02,
+        within: Some(|v| v <= 1.02),
     },
     Figure {
         what: "tasks the network planner does not finish",
         target: "0",
         unit: Unit::Count,
         value: |s| Some(s.tasks.saturating_sub(s.tasks_complete) as f64),
-        within: |v| v == 0.0,
+        within: Some(|v| v == 0.0),
     },
     Figure {
         what: "infeasible digs returned",
         target: "0",
         unit: Unit::Count,
         value: |s| Some(s.infeasible as f64),
-        within: |v| v == 0.0,
+        within: Some(|v| v == 0.0),
     },
 ];
 
@@ -157,7 +159,7 @@ pub fn goals(seeds: &[SeedFigures]) -> Vec<SeedGoal> {
     FIGURES.iter().map(|f| goal(f, seeds)).collect()
 }
 
-fn goal(f: &Figure, seeds: &[SeedFigures]) -> SeedGoal {
+fn goal<S>(f: &Figure<S>, seeds: &[S]) -> SeedGoal {
     let values: Vec<Option<f64>> = seeds
         .iter()
         .map(|s| (f.value)(s).filter(|v| v.is_finite()))
@@ -166,7 +168,9 @@ fn goal(f: &Figure, seeds: &[SeedFigures]) -> SeedGoal {
     SeedGoal {
         what: f.what.into(),
         target: f.target.into(),
-        met: !values.is_empty() && values.iter().all(|v| v.is_some_and(f.within)),
+        met: f.within.is_some_and(|within| {
+            !values.is_empty() && values.iter().all(|v| v.is_some_and(within))
+        }),
         spread: Distribution::of(&measured),
         values,
     }
@@ -178,20 +182,28 @@ fn value(v: Option<f64>, unit: Unit) -> String {
         (Some(x), Unit::Percent) => format!("{:.1} %", 100.0 * x),
         (Some(x), Unit::Ratio) => format!("{x:.3}"),
         (Some(x), Unit::Count) => format!("{x:.0}"),
+        (Some(x), Unit::Milliseconds) => format!("{x:.1} ms"),
     }
 }
 
 /// The seeds table: one column per seed, then median (min–max) and whether
 /// every seed meets the goal.
 pub fn markdown(seeds: &[SeedFigures]) -> String {
+    let numbers: Vec<u64> = seeds.iter().map(|s| s.seed).collect();
+    table(&FIGURES, seeds, &numbers)
+}
+
+/// The table of `figures` over `seeds`, numbered `numbers`: one column per
+/// seed, then median (min–max) and whether every seed meets the goal.
+pub(crate) fn table<S>(figures: &[Figure<S>], seeds: &[S], numbers: &[u64]) -> String {
     let mut out = String::from("| learned figure | target |");
-    for s in seeds {
-        let _ = write!(out, " seed {} |", s.seed);
+    for n in numbers {
+        let _ = write!(out, " seed {n} |");
     }
     out += " median (min–max) | every seed |\n|---|---|";
     out += &"---|".repeat(seeds.len() + 2);
     out.push('\n');
-    for f in &FIGURES {
+    for f in figures {
         let g = goal(f, seeds);
         let unit = f.unit;
         let _ = write!(out, "| {} | {} |", g.what, g.target);
@@ -209,11 +221,12 @@ pub fn markdown(seeds: &[SeedFigures]) -> String {
                 value(Some(d.max), unit)
             )
         };
-        let _ = writeln!(
-            out,
-            " {spread} | {} |",
-            if g.met { "yes" } else { "**no**" }
-        );
+        let met = match (f.within, g.met) {
+            (None, _) => "–",
+            (Some(_), true) => "yes",
+            (Some(_), false) => "**no**",
+        };
+        let _ = writeln!(out, " {spread} | {met} |");
     }
     out
 }

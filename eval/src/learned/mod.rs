@@ -18,6 +18,7 @@ use crate::baselines::Baseline;
 use crate::error::{EvalError, write_file, write_json};
 use crate::networks::Networks;
 use crate::planning::PlanFailure;
+use crate::seeds::{Figure, Unit, table};
 use crate::tasks::NamedTask;
 use crate::whole::PlanSummary;
 use infer::Planner;
@@ -66,12 +67,112 @@ pub struct PlannerTotals {
     pub network_won: Option<usize>,
 }
 
+/// One training seed's task network: its totals in each form the report
+/// runs, read by the seeds table ([`SEED_FIGURES`]).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct SeedTotals {
+    pub seed: u64,
+    /// As `plan` runs it: the network's and the templates' seeds, the full bound.
+    pub refit: PlannerTotals,
+    /// The network's seeds alone (when templates were given).
+    pub alone: Option<PlannerTotals>,
+    /// The least bound.
+    pub least: PlannerTotals,
+    /// Its digs' mean objective over guarded PSO's.
+    pub pso_ratio: Option<f64>,
+}
+
+/// The learned figures over the training seeds: the issue's goals, each
+/// met only if every seed meets it, then what the network adds (context).
+const SEED_FIGURES: [Figure<SeedTotals>; 11] = [
+    Figure {
+        what: "tasks not finished",
+        target: "0",
+        unit: Unit::Count,
+        value: |s| Some((s.refit.tasks - s.refit.finished) as f64),
+        within: Some(|v| v == 0.0),
+    },
+    Figure {
+        what: "tasks above 3 % under- or over-dug (or not finished)",
+        target: "0",
+        unit: Unit::Count,
+        value: |s| Some((s.refit.tasks - s.refit.within_3_percent) as f64),
+        within: Some(|v| v == 0.0),
+    },
+    Figure {
+        what: "mean under-dug",
+        target: "≤ 2 %",
+        unit: Unit::Percent,
+        value: |s| Some(s.refit.mean_under_dug),
+        within: Some(|v| v <= 0.02),
+    },
+    Figure {
+        what: "infeasible digs returned",
+        target: "0",
+        unit: Unit::Count,
+        value: |s| Some(s.refit.infeasible_digs as f64),
+        within: Some(|v| v == 0.0),
+    },
+    Figure {
+        what: "digs' objective / guarded PSO's",
+        target: "≤ 1.02",
+        unit: Unit::Ratio,
+        value: |s| s.pso_ratio,
+        within: Some(|v| v <= 1.02),
+    },
+    Figure {
+        what: "slowest task (wall clock, this run)",
+        target: "≤ 5 ms",
+        unit: Unit::Milliseconds,
+        value: |s| Some(s.refit.max_planning_ms),
+        within: Some(|v| v <= 5.0),
+    },
+    Figure {
+        what: "median task (wall clock, this run; the goal is criterion's on A–D)",
+        target: "≤ 1 ms",
+        unit: Unit::Milliseconds,
+        value: |s| Some(s.refit.median_planning_ms),
+        within: None,
+    },
+    Figure {
+        what: "plans grown from the network's sequence",
+        target: "–",
+        unit: Unit::Count,
+        value: |s| s.refit.network_won.map(|n| n as f64),
+        within: None,
+    },
+    Figure {
+        what: "network's seeds alone: tasks within 3 %",
+        target: "–",
+        unit: Unit::Count,
+        value: |s| s.alone.as_ref().map(|a| a.within_3_percent as f64),
+        within: None,
+    },
+    Figure {
+        what: "network's seeds alone: mean under-dug",
+        target: "–",
+        unit: Unit::Percent,
+        value: |s| s.alone.as_ref().map(|a| a.mean_under_dug),
+        within: None,
+    },
+    Figure {
+        what: "least bound: tasks finished",
+        target: "–",
+        unit: Unit::Count,
+        value: |s| Some(s.least.finished as f64),
+        within: None,
+    },
+];
+
 /// The comparison.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct LearnedReport {
     pub command: String,
     pub tasks: Vec<NamedTask>,
     pub totals: Vec<PlannerTotals>,
+    /// Each training seed's network in every form run.
+    #[serde(default)]
+    pub seeds: Vec<SeedTotals>,
     /// Each network's digs (full refit bound) against guarded PSO.
     #[serde(default)]
     pub pso: Vec<AgainstPso>,
@@ -162,14 +263,29 @@ pub fn compare(
             names.push(r.planner.clone());
         }
     }
-    let totals = names
+    let totals: Vec<PlannerTotals> = names
         .iter()
         .map(|n| totals(n, rows.iter().filter(|r| &r.planner == n)))
+        .collect();
+    let of = |name: String| totals.iter().find(|t| t.planner == name).cloned();
+    let seeds = networks
+        .iter()
+        .filter_map(|file| {
+            let refit = learned_name(file.seed, "refit", settings);
+            Some(SeedTotals {
+                seed: file.seed,
+                pso_ratio: pso.iter().find(|p| p.planner == refit).map(|p| p.ratio),
+                refit: of(refit)?,
+                alone: of(learned_name(file.seed, "network's seeds alone", settings)),
+                least: of(learned_name(file.seed, "least refit", &least))?,
+            })
+        })
         .collect();
     Ok(LearnedReport {
         command: command.into(),
         tasks: tasks.to_vec(),
         totals,
+        seeds,
         pso,
         rows,
     })
@@ -310,6 +426,14 @@ impl LearnedReport {
             "{} tasks. Goals (issue 26): every task finished, each ≤ 3 % under- and over-dug, mean under-dug ≤ 2 %, 0 infeasible digs.\n",
             self.tasks.len()
         );
+        if !self.seeds.is_empty() {
+            let numbers: Vec<u64> = self.seeds.iter().map(|s| s.seed).collect();
+            let _ = writeln!(
+                out,
+                "## Over the training seeds\n\nThe learned planner as `plan` runs it, from each seed's task network; a goal is met when every seed meets it. The times are this run's wall clock.\n\n{}\n## Every planner\n",
+                table(&SEED_FIGURES, &self.seeds, &numbers)
+            );
+        }
         let _ = writeln!(
             out,
             "| planner | finished | ≤ 3 % | mean under | max under | max over | median ms | max ms | infeasible | network's seed won |\n|---|---|---|---|---|---|---|---|---|---|"
@@ -445,11 +569,61 @@ mod tests {
             command: "test".into(),
             tasks: Vec::new(),
             totals: vec![totals("good", rows.iter()), totals("poor", more.iter())],
+            seeds: Vec::new(),
             pso: Vec::new(),
             rows: rows.into_iter().chain(more).collect(),
         };
         let md = report.markdown();
         assert!(md.contains("- good: B 4.50 / 1.00, C no plan"), "{md}");
         assert!(!md.contains("- poor"), "{md}");
+    }
+
+    #[test]
+    fn a_seeds_goal_is_met_only_when_every_seed_meets_it() {
+        // Seed 1 plans every task within 3 %, seed 2 misses one.
+        let all: Vec<LearnedRow> = ["A", "B"]
+            .iter()
+            .map(|t| row(t, "1", Ok(summary(0.02))))
+            .collect();
+        let one_off = [
+            row("A", "2", Ok(summary(0.02))),
+            row("B", "2", Ok(summary(0.04))),
+        ];
+        let seed = |seed, t: PlannerTotals| SeedTotals {
+            seed,
+            refit: t.clone(),
+            alone: None,
+            least: t,
+            pso_ratio: Some(1.5),
+        };
+        let report = LearnedReport {
+            command: "test".into(),
+            tasks: Vec::new(),
+            totals: Vec::new(),
+            seeds: vec![
+                seed(1, totals("1", all.iter())),
+                seed(2, totals("2", one_off.iter())),
+            ],
+            pso: Vec::new(),
+            rows: Vec::new(),
+        };
+        let md = report.markdown();
+        let line = |what: &str| {
+            md.lines()
+                .find(|l| l.starts_with(&format!("| {what} |")))
+                .unwrap_or_else(|| panic!("{what}: {md}"))
+                .to_string()
+        };
+        assert_eq!(
+            line("tasks above 3 % under- or over-dug (or not finished)"),
+            "| tasks above 3 % under- or over-dug (or not finished) | 0 | 0 | 1 | 0 (0–1) | **no** |"
+        );
+        assert_eq!(
+            line("tasks not finished"),
+            "| tasks not finished | 0 | 0 | 0 | 0 (0–0) | yes |"
+        );
+        assert!(line("digs' objective / guarded PSO's").ends_with("| **no** |"));
+        // Context rows carry no goal; a form not run is "–".
+        assert!(line("network's seeds alone: tasks within 3 %").ends_with("| – | – | – | – |"));
     }
 }
