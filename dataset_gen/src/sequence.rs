@@ -23,8 +23,8 @@ use crate::runner::{Budget, Runner};
 use infer::plan::{DigRecord, Plan};
 use infer::repair::{Assessment, DesignGuard};
 use infer::sequence::{
-    DIG_VARS, Refit, SPEC_VARS, SequenceDig, UNEVALUABLE, initial_step, play_dig_to_beat,
-    search_box, vars_per_dig,
+    Axes, DIG_VARS, Refit, SPEC_VARS, SequenceDig, UNEVALUABLE, play_dig_to_beat, search_box,
+    vars_per_dig,
 };
 use infer::{
     Config, DesignProfile, DigQuery, Outcome, PlannedDig, Planner, ProfileMetrics, Reference,
@@ -299,9 +299,9 @@ impl<const N: usize> Refit<N> for Polish<'_, '_> {
         1
     }
 
-    fn play(&mut self, j: usize, i: usize, value: f64) -> Option<(f64, f64)> {
+    fn play(&mut self, j: usize, dig: &[f64; N]) -> Option<(f64, f64)> {
         let mut x = self.best.x.clone();
-        x[j * self.p.per_dig + i] = value;
+        x[j * self.p.per_dig..][..N].copy_from_slice(dig);
         let mut f = [0.0];
         self.spent += 1;
         let violation = self.p.evaluate_to_beat(&x, &mut f, &self.best)?;
@@ -347,14 +347,14 @@ fn compass_in<const N: usize>(
     lo: &[f64; N],
     hi: &[f64; N],
 ) -> (Individual, usize) {
-    let mut steps = vec![initial_step(lo, hi); p.digs];
+    let mut axes = vec![Axes::default(); p.digs];
     let mut r = Polish {
         p,
         best: start,
         candidate: None,
         spent: 0,
     };
-    infer::sequence::compass(&mut r, lo, hi, &mut steps, budget, POLISH_MIN_STEP);
+    infer::sequence::compass(&mut r, lo, hi, &mut axes, budget, POLISH_MIN_STEP, false);
     (r.best, r.spent)
 }
 

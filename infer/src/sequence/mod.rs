@@ -14,7 +14,7 @@
 //!   design guard;
 //! - [`deb`]: Deb's rules, how two (violation, value) points compare;
 //! - [`compass`]: the compass search that refits a sequence, given how to
-//!   play it;
+//!   play it, its directions turned or not;
 //! - [`nearest`]: which stored tasks are nearest a new one.
 
 pub mod compass;
@@ -23,7 +23,7 @@ pub mod nearest;
 pub mod play;
 pub mod vars;
 
-pub use compass::{Refit, compass, initial_step};
+pub use compass::{Axes, Refit, compass};
 pub use deb::{better, compare};
 pub use nearest::{MAX_NEIGHBOURS, features, nearest};
 pub use play::{UNEVALUABLE, carve_dig, play_dig, play_dig_to_beat, query_of};

@@ -47,13 +47,13 @@ impl Refit for Refitting<'_> {
         self.work.best.count - j
     }
 
-    fn play(&mut self, j: usize, i: usize, value: f64) -> Option<(f64, f64)> {
+    fn play(&mut self, j: usize, dig: &DigVars) -> Option<(f64, f64)> {
         let best = self.best_score();
         let w = &mut *self.work;
         let n = w.best.count;
         w.candidate.count = n;
         w.candidate.vars = w.best.vars;
-        w.candidate.vars[j][i] = value;
+        w.candidate.vars[j] = *dig;
         w.candidate.score[..j].copy_from_slice(&w.best.score[..j]);
         w.candidate.after[j] = w.best.after[j];
         let feasible_only = w.best.violation == 0.0;
@@ -109,7 +109,15 @@ impl TemplateWork {
             },
             weight_objective: settings.weight_objective,
         };
-        compass(&mut r, &lo, &hi, steps, limit, settings.min_step);
+        compass(
+            &mut r,
+            &lo,
+            &hi,
+            steps,
+            limit,
+            settings.min_step,
+            settings.rotate,
+        );
     }
 
     /// The best seed's refit made the best sequence again and refitted

@@ -10,7 +10,7 @@ use super::{
 };
 use crate::planner::{PlanError, Planner};
 use crate::sequence::MAX_NEIGHBOURS;
-use crate::sequence::{DIG_VARS, DigVars, initial_step, nearest, search_box};
+use crate::sequence::{Axes, DIG_VARS, DigVars, nearest, search_box};
 use crate::trench::{DesignProfile, TaskError, TrenchTask};
 
 impl Champion {
@@ -29,9 +29,6 @@ impl Champion {
         self.value + self.violation
     }
 }
-
-/// The seeds in the race, each refit's best and the steps it reached.
-type Racers = [Option<(Champion, Steps)>; MAX_NEIGHBOURS];
 
 /// Where a plan's seeds come from.
 #[derive(Clone, Copy)]
@@ -197,8 +194,8 @@ impl TemplateWork {
             }
         };
         // Each seed carried over, its refit's state kept between rounds.
-        let mut racers: Racers = [None; MAX_NEIGHBOURS];
-        for (slot, (i, t)) in racers.iter_mut().zip(near.into_iter().flatten()) {
+        self.racers = [None; MAX_NEIGHBOURS];
+        for (slot, (i, t)) in self.racers.iter_mut().zip(near.into_iter().flatten()) {
             let mut vars = t.carried_to(cfg, &self.design);
             vars[..t.count].iter_mut().for_each(clamp);
             let c = Champion {
@@ -208,9 +205,9 @@ impl TemplateWork {
                 violation: f64::INFINITY,
                 value: f64::INFINITY,
             };
-            *slot = Some((c, [initial_step(&lo, &hi); MAX_TEMPLATE_DIGS]));
+            *slot = Some((c, [Axes::default(); MAX_TEMPLATE_DIGS]));
         }
-        self.race(planner, &mut racers, settings)
+        self.race(planner, settings)
     }
 
     /// The seeds' race (successive halving): in each round every seed
@@ -221,13 +218,8 @@ impl TemplateWork {
     /// `seed_share` of the bound. Why: the refit is a local search, and a
     /// few hundred evaluations rank seeds by the basin they start in only
     /// roughly; halving gives the likelier ones more before choosing.
-    fn race(
-        &mut self,
-        planner: &Planner,
-        racers: &mut Racers,
-        settings: &TemplateSettings,
-    ) -> Result<Seeds, PlanError> {
-        let mut alive = racers.iter().flatten().count();
+    fn race(&mut self, planner: &Planner, settings: &TemplateSettings) -> Result<Seeds, PlanError> {
+        let mut alive = self.racers.iter().flatten().count();
         let phase = settings.seed_share * (settings.max_evaluations - last_stage(settings)) as f64;
         let rounds = rounds_for(alive);
         let per_round = phase / rounds as f64;
@@ -235,18 +227,20 @@ impl TemplateWork {
         let mut fallback: Option<Champion> = None;
         for round in 0..rounds {
             let per_seed = per_round / alive as f64;
-            for (rank, racer) in racers[..alive].iter_mut().enumerate() {
-                let (c, steps) = racer.as_mut().ok_or(PlanError::NoTemplate)?;
+            for rank in 0..alive {
+                // A copy (about 10 kB): the refit needs the work whole.
+                let (mut c, mut steps) = self.racers[rank].ok_or(PlanError::NoTemplate)?;
                 let limit =
                     start + (round as f64 * per_round + (rank + 1) as f64 * per_seed) as usize;
                 if round > 0 && self.evaluations + c.count + 1 > limit {
                     continue;
                 }
-                self.replay(planner, c, settings);
-                self.refit(planner, steps, limit, settings);
-                *c = Champion::of(c.template, &self.best);
+                self.replay(planner, &c, settings);
+                self.refit(planner, &mut steps, limit, settings);
+                c = Champion::of(c.template, &self.best);
+                self.racers[rank] = Some((c, steps));
                 if c.violation == 0.0 && fallback.as_ref().is_none_or(|f| c.value < f.value) {
-                    fallback = Some(*c);
+                    fallback = Some(c);
                 }
             }
             let key = |r: &Option<(Champion, Steps)>| {
@@ -254,6 +248,7 @@ impl TemplateWork {
             };
             // A stable insertion sort (`sort_by` needs `alloc`): ties keep
             // their order, the nearer seed first.
+            let racers = &mut self.racers;
             for i in 1..alive {
                 let mut j = i;
                 while j > 0 && key(&racers[j]) < key(&racers[j - 1]) {
@@ -264,7 +259,7 @@ impl TemplateWork {
             alive = alive.div_ceil(2);
         }
         Ok(Seeds {
-            champion: racers[0].ok_or(PlanError::NoTemplate)?,
+            champion: self.racers[0].ok_or(PlanError::NoTemplate)?,
             fallback,
         })
     }

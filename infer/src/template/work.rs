@@ -7,7 +7,7 @@ use crate::dig::Reference;
 use crate::error::Error;
 use crate::planner::Planner;
 use crate::retime::RetimeWork;
-use crate::sequence::{DIG_VARS, UNEVALUABLE, carve_dig, play_dig_to_beat};
+use crate::sequence::{DIG_VARS, MAX_NEIGHBOURS, UNEVALUABLE, carve_dig, play_dig_to_beat};
 use crate::terrain::{CarveBuffer, Terrain};
 use crate::trench::{DesignProfile, ProfileMetrics, TrenchTask};
 
@@ -41,6 +41,7 @@ impl TemplateWork {
             planned: 0,
             seed: 0,
             skew: false,
+            racers: [None; MAX_NEIGHBOURS],
         })
     }
 
