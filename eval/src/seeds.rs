@@ -87,6 +87,8 @@ pub struct SeedGoal {
 #[derive(Clone, Copy)]
 pub(crate) enum Unit {
     Percent,
+    /// With two decimals: a figure close to its goal.
+    FinePercent,
     Ratio,
     Count,
     Milliseconds,
@@ -180,6 +182,7 @@ fn value(v: Option<f64>, unit: Unit) -> String {
     match (v, unit) {
         (None, _) => "–".into(),
         (Some(x), Unit::Percent) => format!("{:.1} %", 100.0 * x),
+        (Some(x), Unit::FinePercent) => format!("{:.2} %", 100.0 * x),
         (Some(x), Unit::Ratio) => format!("{x:.3}"),
         (Some(x), Unit::Count) => format!("{x:.0}"),
         (Some(x), Unit::Milliseconds) => format!("{x:.1} ms"),

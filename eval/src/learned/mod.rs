@@ -102,7 +102,7 @@ const SEED_FIGURES: [Figure<SeedTotals>; 11] = [
     Figure {
         what: "mean under-dug",
         target: "≤ 2 %",
-        unit: Unit::Percent,
+        unit: Unit::FinePercent,
         value: |s| Some(s.refit.mean_under_dug),
         within: Some(|v| v <= 0.02),
     },
@@ -151,7 +151,7 @@ const SEED_FIGURES: [Figure<SeedTotals>; 11] = [
     Figure {
         what: "network's seeds alone: mean under-dug",
         target: "–",
-        unit: Unit::Percent,
+        unit: Unit::FinePercent,
         value: |s| s.alone.as_ref().map(|a| a.mean_under_dug),
         within: None,
     },
