@@ -59,13 +59,6 @@ impl<const N: usize> Default for Axes<N> {
     }
 }
 
-impl<const N: usize> Axes<N> {
-    /// The signed step along direction `k`, in units of range.
-    pub fn step(&self, k: usize) -> f64 {
-        self.steps[k]
-    }
-}
-
 /// The compass search's first steps: 5 % of each variable's range.
 const FIRST_STEP: f64 = 0.05;
 
@@ -311,8 +304,8 @@ mod tests {
         let mut axes = [Axes::default()];
         compass(&mut toy, &lo, &hi, &mut axes, 10_000, 1e-6, true);
         assert_eq!(toy.best, [[0.9, 0.8, 0.2]]);
-        assert_eq!(axes[0].step(1), FIRST_STEP, "x's step is kept");
-        assert!(axes[0].step(2).abs() < 1e-6);
+        assert_eq!(axes[0].steps[1], FIRST_STEP, "x's step is kept");
+        assert!(axes[0].steps[2].abs() < 1e-6);
     }
 
     #[test]
