@@ -460,7 +460,7 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
             let s = &t.settings;
             let _ = writeln!(
                 out,
-                "\n## Whole tasks: from templates (infer's template planner)\n\nThe {} templates (sequence-PSO plans of random trenches, `{}`) whose tasks are nearest each task, carried over to its design (start x and chord stretched from edge to edge), each refitted for a share of the budget and the best refitted further by a compass search: at most {} exact dig evaluations per task in all. Planning time: one core, one task after the other.\n",
+                "\n## Whole tasks: from templates (infer's template planner)\n\nThe {} templates (the plan library's whole-task plans, `{}`) whose tasks are nearest each task, carried over to its design (start x and chord stretched from edge to edge), raced by successive halving and the winner refitted further by the compass search, its directions turned: at most {} exact dig evaluations per task in all. Planning time: one core, one task after the other.\n",
                 s.neighbours,
                 t.file.display(),
                 s.max_evaluations

@@ -136,8 +136,8 @@ pub struct TemplateSettings {
     pub neighbours: usize,
     /// Most exact dig evaluations of the whole task, seeds included, a
     /// refit's screens counted as well as its plays in continuous time:
-    /// the bound on its planning time (each costs 5–30 µs here). The
-    /// default, 9,600, takes about 100 ms a task here; over `eval
+    /// the bound on its planning time (each costs 5–30 µs on the AMD
+    /// EPYC). The default, 9,600, takes 120–135 ms a task there; over `eval
     /// learned`'s three task sets and three networks it left 1.71–2.07 %
     /// undug on mean against 1.95–2.27 % at 4,800 (in half the time), and
     /// 509 against 501 of 576 plans within 3 % (2026-12-05, with the
