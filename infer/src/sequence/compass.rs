@@ -163,16 +163,17 @@ impl<const N: usize> Axes<N> {
     fn turn(&mut self, mixes: &[bool; N]) {
         let mut order = [0usize; N];
         let mut len = 0;
+        let mut gained = 0;
         // The directions that gained first, then the others.
         for pass in [true, false] {
             for k in (0..N).filter(|&k| mixes[k] && (self.progress[k] != 0.0) == pass) {
                 order[len] = k;
                 len += 1;
             }
+            if pass {
+                gained = len;
+            }
         }
-        let gained = (0..N)
-            .filter(|&k| mixes[k] && self.progress[k] != 0.0)
-            .count();
         if gained >= 2 {
             let mut next = [[0.0; N]; N];
             for p in 0..len {
