@@ -5,7 +5,7 @@
 
 use infer::plan::Plan;
 use infer::repair::assess;
-use infer::sequence::{DIG_VARS, bends_of, decode, encode, params_from_bends, query_of};
+use infer::sequence::{DIG_VARS, DURATION, bends_of, decode, encode, params_from_bends, query_of};
 use infer::template::{TemplateFile, TemplateSettings, TemplateWork};
 use infer::{
     CarveBuffer, Config, DigType, Ground, PlanError, Planner, PlannerSettings, Template, TrenchTask,
@@ -201,6 +201,32 @@ fn task_a_from_the_shipped_templates_is_feasible_bounded_and_repeatable() {
         serde_json::to_value(&plan.digs).unwrap(),
         serde_json::to_value(&again.digs).unwrap()
     );
+}
+
+#[test]
+fn a_plan_too_fast_for_its_limits_is_retimed_before_it_is_given_up() {
+    let p = planner();
+    let task = TrenchTask::reference('A').unwrap();
+    let plan: Plan = serde_json::from_str(&artifact("plan_task_A_templates.json")).unwrap();
+    // The shipped plan of A with its first dig a third faster: its carving
+    // as it was, its accelerations 2.4 times as high.
+    let mut fast = Template::from_plan(&p, &plan).unwrap().digs().to_vec();
+    fast[0][DURATION] *= 0.65;
+    let fast = [Template::new(task, &fast).unwrap()];
+    let least = TemplateSettings {
+        neighbours: 1,
+        max_evaluations: 100,
+        ..TemplateSettings::default()
+    };
+    let unretimed = TemplateSettings {
+        retime: false,
+        ..least
+    };
+    let e = p.plan_from_templates(&task, &fast, &unretimed).unwrap_err();
+    assert!(e.to_string().contains("acceleration"), "{e}");
+    let retimed = p.plan_from_templates(&task, &fast, &least).unwrap();
+    assert_eq!(retimed.verify(&p).unwrap(), retimed.metrics);
+    assert!(retimed.digs.iter().any(|r| r.dig.params.duration > 6.5));
 }
 
 #[test]

@@ -169,7 +169,10 @@ pub struct TemplateSettings {
     /// alone changes (its bends, and so its path and carving, stay), to
     /// the lowest dig objective under every limit; kept if the replayed
     /// plan holds every limit and its profile is no worse. Two evaluations
-    /// per dig, within `max_evaluations`.
+    /// per dig, within `max_evaluations`. It comes before the final check,
+    /// so a plan too fast for its limits is slowed rather than given up
+    /// (at 100 evaluations, `eval learned`: 144 of 192 plans finished
+    /// against 139).
     pub retime: bool,
     /// Turn each dig's search directions towards the way it has moved
     /// (Rosenbrock's method, [`crate::sequence::compass`]). On against off

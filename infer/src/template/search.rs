@@ -109,10 +109,13 @@ impl TemplateWork {
         if let Some(f) = seeds.fallback.filter(|_| self.best.violation > 0.0) {
             self.replay(planner, &f, settings);
         }
-        self.check(planner)?;
+        // Retimed before the check: a plan that breaks only speed,
+        // acceleration or torque limits may hold them slower, and its
+        // carving, and so its profile, stay as they are.
         if settings.retime {
             self.retime(planner, settings);
         }
+        self.check(planner)?;
         self.planned = self.best.count;
         Ok(())
     }
