@@ -575,23 +575,13 @@ pub fn carry_over(
 ) -> Result<Vec<f64>, Error> {
     let t = Template::from_plan(planner, plan)
         .map_err(|e| Error::BadArgument(format!("not a template plan: {e}")))?;
-    Ok(carry_template(planner, &t, design, settings))
-}
-
-/// [`carry_over`] of a plan already made a template.
-pub fn carry_template(
-    planner: &Planner,
-    t: &Template,
-    design: &DesignProfile,
-    settings: &SequenceSettings,
-) -> Vec<f64> {
     let carried = t.carried_to(planner.config(), design);
     let w = settings.per_dig();
-    carried[..t.digs().len()]
+    Ok(carried[..t.digs().len()]
         .iter()
         .flat_map(|d| &d[..w])
         .copied()
-        .collect()
+        .collect())
 }
 
 /// A plan for `task` from the sequence `init` (e.g. [`carry_over`] of

@@ -16,7 +16,6 @@ use dataset_gen::sequence::{self, SequenceOptimiser, SequenceSettings};
 use dataset_gen::suite::test_problem;
 use dataset_gen::testfns::TestFn;
 use infer::DigType;
-use infer::template::{TaskNetworkFile, TemplateFile};
 use std::path::{Path, PathBuf};
 
 #[derive(Parser, Debug)]
@@ -248,30 +247,6 @@ enum Command {
         /// Independent runs of the cold search, the best kept.
         #[arg(long, default_value_t = library::RepairSettings::default().sequence.restarts)]
         restarts: usize,
-        #[arg(long)]
-        out: PathBuf,
-        #[arg(long)]
-        no_progress: bool,
-    },
-    /// A library's plans aligned with its task network: each task planned
-    /// from the library's templates and from the network's own sequence,
-    /// the network's plan kept where it is nearly as close to the design
-    /// (see `library::align`), written to OUT as a library `train_tasks`
-    /// reads. Re-running resumes (plans in OUT are kept).
-    LibraryAlign {
-        /// The library's plans as templates (`dataset_gen templates`).
-        #[arg(long, default_value = "artifacts/templates.json")]
-        templates: PathBuf,
-        /// The library's manifest, copied to OUT.
-        #[arg(long, default_value = "artifacts/library_sample/library.json")]
-        manifest: PathBuf,
-        /// The task network (`train_tasks`).
-        #[arg(long, default_value = "artifacts/task_network/seed_1.json")]
-        network: PathBuf,
-        /// The network's plan is kept if its under- plus over-dug fraction
-        /// is at most the library plan's plus this.
-        #[arg(long, default_value_t = library::AlignSettings::default().margin)]
-        margin: f64,
         #[arg(long)]
         out: PathBuf,
         #[arg(long)]
@@ -676,50 +651,6 @@ fn main_inner() -> Result<(), Error> {
             let report = library::repair(&planner, &from, &out, &settings, Some(&bar))?;
             bar.finish_and_clear();
             print(&serde_json::json!({ "out": out, "report": report }))
-        }
-        Command::LibraryAlign {
-            templates,
-            manifest,
-            network,
-            margin,
-            out,
-            no_progress,
-        } => {
-            let planner = default_planner()?;
-            let read = |p: &PathBuf| std::fs::read_to_string(p).map_err(|e| Error::io(p, e));
-            let templates = TemplateFile::from_json(&read(&templates)?)
-                .map_err(|e| Error::BadArgument(format!("{}: {e}", templates.display())))?;
-            let file = TaskNetworkFile::from_json(&read(&network)?)
-                .map_err(|e| Error::BadArgument(format!("{}: {e}", network.display())))?;
-            let net = file
-                .network()
-                .map_err(|e| Error::BadArgument(format!("{}: {e}", network.display())))?;
-            let settings = library::AlignSettings {
-                margin,
-                ..Default::default()
-            };
-            let bar = dataset_gen::jobs::progress_bar(0, "tasks", !no_progress);
-            let report = library::align(
-                &planner,
-                &templates.templates,
-                &net,
-                &manifest,
-                &out,
-                &settings,
-                Some(&bar),
-            )?;
-            bar.finish_and_clear();
-            let kept = report.tasks.iter().filter(|t| t.kept_network).count();
-            let report_file = out.join("align_report.json");
-            std::fs::write(&report_file, serde_json::to_string_pretty(&report)?)
-                .map_err(|e| Error::io(&report_file, e))?;
-            print(&serde_json::json!({
-                "out": out,
-                "planned": report.tasks.len(),
-                "resumed": report.resumed,
-                "network_plans_kept": kept,
-                "report": report_file,
-            }))
         }
         Command::Templates { library, out } => {
             let planner = default_planner()?;

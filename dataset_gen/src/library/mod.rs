@@ -19,13 +19,11 @@
 //! needs), at a fraction of a cold search's cost. Its plans that still
 //! miss their design are then searched again cold ([`repair`]).
 
-mod align;
 mod merged;
 mod refit;
 mod repair;
 mod warm;
 
-pub use align::{AlignReport, AlignSettings, Aligned, align};
 pub use merged::{MergeReport, PLAN_TOPIC, merge, read_merged};
 pub use refit::{Library, Refit, refit_from_library};
 pub use repair::{RepairReport, RepairSettings, repair};
@@ -361,33 +359,6 @@ fn write_whole(path: &Path, text: &str) -> Result<(), Error> {
     let tmp = PathBuf::from(tmp);
     std::fs::write(&tmp, text).map_err(|e| Error::io(&tmp, e))?;
     std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e))
-}
-
-/// Writes a job's `settings` to `dir/file`, or checks them against those
-/// there: a resume must use the same. `what` names the job in errors.
-fn check_settings<S>(dir: &Path, file: &str, what: &str, settings: &S) -> Result<(), Error>
-where
-    S: Serialize + serde::de::DeserializeOwned + PartialEq,
-{
-    let path = dir.join(file);
-    match std::fs::read_to_string(&path) {
-        Ok(text) => {
-            let old: S = serde_json::from_str(&text).map_err(|e| {
-                Error::BadArgument(format!("{}: not {what} settings ({e})", path.display()))
-            })?;
-            if old != *settings {
-                return Err(Error::BadSettings(format!(
-                    "{} was made by {what} with other settings ({text}); use another folder or the same settings",
-                    dir.display()
-                )));
-            }
-            Ok(())
-        }
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            write_whole(&path, &serde_json::to_string_pretty(settings)?)
-        }
-        Err(e) => Err(Error::io(&path, e)),
-    }
 }
 
 /// Why the sequence search found no feasible plan for a library task.
