@@ -208,8 +208,8 @@ fn a_plan_too_fast_for_its_limits_is_retimed_before_it_is_given_up() {
     let p = planner();
     let task = TrenchTask::reference('A').unwrap();
     let plan: Plan = serde_json::from_str(&artifact("plan_task_A_templates.json")).unwrap();
-    // The shipped plan of A with its first dig a third faster: its carving
-    // as it was, its accelerations 2.4 times as high.
+    // The shipped plan of A with its first dig's T cut to 0.65 of itself:
+    // its carving as it was, its accelerations 2.4 times as high.
     let mut fast = Template::from_plan(&p, &plan).unwrap().digs().to_vec();
     fast[0][DURATION] *= 0.65;
     let fast = [Template::new(task, &fast).unwrap()];
