@@ -23,6 +23,7 @@ use crate::tasks::NamedTask;
 use crate::whole::PlanSummary;
 use infer::Planner;
 use infer::plan::{Origin, Plan};
+use infer::repair::Violation;
 use infer::template::{MIN_EVALUATIONS, TaskNetworkFile, Template, TemplateSettings};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -35,6 +36,10 @@ pub struct LearnedRow {
     pub planner: String,
     /// The plan's figures, or why there is none.
     pub result: Result<PlanSummary, String>,
+    /// The constraint the first infeasible dig broke (e.g. `joint 2
+    /// torque`), where the plan failed on one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub broke: Option<String>,
 }
 
 /// The planners the learned one is compared with (either may be left out).
@@ -322,6 +327,7 @@ fn as_plan_runs_it(
                 task: r.task.clone(),
                 planner: name.clone(),
                 result: used.result.clone(),
+                broke: used.broke.clone(),
             })
         })
         .collect()
@@ -332,9 +338,18 @@ fn row(
     planner: &str,
     plan: Result<infer::plan::Plan, infer::PlanError>,
 ) -> LearnedRow {
+    let broke = plan
+        .as_ref()
+        .err()
+        .and_then(|e| e.violation())
+        .map(|v| match v {
+            Violation::Check(c) => c.to_string(),
+            Violation::OverDig { .. } => "over-dig".to_string(),
+        });
     LearnedRow {
         task: t.name.clone(),
         planner: planner.into(),
+        broke,
         result: plan
             .map(|p| {
                 // A greedy plan may stop with design material left that no
@@ -417,6 +432,28 @@ impl LearnedReport {
             .collect()
     }
 
+    /// Per planner with plans not made, how many failed on each
+    /// constraint (most first; "other" for a failure not at a dig's
+    /// limit): what a bound or a repair would have to mend.
+    fn failures(&self) -> Vec<(&str, Vec<(String, usize)>)> {
+        self.totals
+            .iter()
+            .filter_map(|t| {
+                let mut counts: Vec<(String, usize)> = Vec::new();
+                let failed = self.rows.iter().filter(|r| r.planner == t.planner);
+                for r in failed.filter(|r| r.result.is_err()) {
+                    let what = r.broke.as_deref().unwrap_or("other");
+                    match counts.iter_mut().find(|(w, _)| w == what) {
+                        Some((_, n)) => *n += 1,
+                        None => counts.push((what.to_string(), 1)),
+                    }
+                }
+                counts.sort_by(|a, b| b.1.cmp(&a.1).then_with(|| a.0.cmp(&b.0)));
+                (!counts.is_empty()).then_some((t.planner.as_str(), counts))
+            })
+            .collect()
+    }
+
     pub fn markdown(&self) -> String {
         let mut out = String::new();
         let _ = writeln!(out, "# Learned task planner\n");
@@ -489,6 +526,17 @@ impl LearnedReport {
                 let _ = writeln!(out, "- {planner}: {list}");
             }
         }
+        let failures = self.failures();
+        if !failures.is_empty() {
+            let _ = writeln!(
+                out,
+                "\nPlans not made, by the constraint their first infeasible dig broke (tasks):\n"
+            );
+            for (planner, counts) in failures {
+                let list: Vec<String> = counts.iter().map(|(w, n)| format!("{w} {n}")).collect();
+                let _ = writeln!(out, "- {planner}: {}", list.join(", "));
+            }
+        }
         let _ = writeln!(
             out,
             "\nFinished: a plan returned whole (the greedy planner may stop with material left that no feasible dig takes); the area and time columns are over the finished plans. Refit: seeded by the network's sequence in the expected dig count, one fewer and one more, and by the nearest templates, as `plan` runs it; network's seeds alone: the same without the templates. Network's seed won: finished plans whose winning seed was the network's sequence (in any of its three counts), not a template. Plan's default: the first network's plan, or the greedy one where it has none (as `plan` does; its times leave out the failed learned attempt). Planning times are wall clock on the machine that ran the command, one task after the other; the benchmark figures are criterion's."
@@ -523,6 +571,7 @@ mod tests {
             task: task.into(),
             planner: planner.into(),
             result,
+            broke: None,
         }
     }
 
@@ -576,6 +625,40 @@ mod tests {
         let md = report.markdown();
         assert!(md.contains("- good: B 4.50 / 1.00, C no plan"), "{md}");
         assert!(!md.contains("- poor"), "{md}");
+    }
+
+    #[test]
+    fn the_report_counts_the_constraints_plans_failed_on() {
+        let broke = |task: &str, what: Option<&str>| LearnedRow {
+            broke: what.map(String::from),
+            ..row(task, "least", Err("no refit is feasible".into()))
+        };
+        let rows = vec![
+            broke("A", Some("volume")),
+            broke("B", Some("joint 2 torque")),
+            broke("C", Some("volume")),
+            broke("D", None),
+            row("E", "least", Ok(summary(0.02))),
+            row("A", "full", Ok(summary(0.02))),
+        ];
+        let report = LearnedReport {
+            command: "test".into(),
+            tasks: Vec::new(),
+            totals: vec![
+                totals("least", rows[..5].iter()),
+                totals("full", rows[5..].iter()),
+            ],
+            seeds: Vec::new(),
+            pso: Vec::new(),
+            rows,
+        };
+        let md = report.markdown();
+        assert!(
+            md.contains("- least: volume 2, joint 2 torque 1, other 1\n"),
+            "{md}"
+        );
+        let failures = md.split("Plans not made").nth(1).unwrap();
+        assert!(!failures.contains("- full:"), "{md}");
     }
 
     #[test]
