@@ -511,32 +511,36 @@ impl LearnedReport {
                 );
             }
         }
-        let misses = self.misses();
-        if !misses.is_empty() {
-            let _ = writeln!(
-                out,
-                "\nTasks not finished or not within 3 % (under- / over-dug, % of the design), for each planner that misses at most a quarter of them:\n"
-            );
-            for (planner, missed) in misses {
+        let misses: Vec<(&str, String)> = self
+            .misses()
+            .into_iter()
+            .map(|(planner, missed)| {
                 let list = if missed.is_empty() {
                     "none".to_string()
                 } else {
                     missed.join(", ")
                 };
-                let _ = writeln!(out, "- {planner}: {list}");
-            }
-        }
-        let failures = self.failures();
-        if !failures.is_empty() {
-            let _ = writeln!(
-                out,
-                "\nPlans not made, by the constraint their first infeasible dig broke (tasks):\n"
-            );
-            for (planner, counts) in failures {
+                (planner, list)
+            })
+            .collect();
+        per_planner(
+            &mut out,
+            "Tasks not finished or not within 3 % (under- / over-dug, % of the design), for each planner that misses at most a quarter of them:",
+            &misses,
+        );
+        let failures: Vec<(&str, String)> = self
+            .failures()
+            .into_iter()
+            .map(|(planner, counts)| {
                 let list: Vec<String> = counts.iter().map(|(w, n)| format!("{w} {n}")).collect();
-                let _ = writeln!(out, "- {planner}: {}", list.join(", "));
-            }
-        }
+                (planner, list.join(", "))
+            })
+            .collect();
+        per_planner(
+            &mut out,
+            "Plans not made, by the constraint their first infeasible dig broke (tasks):",
+            &failures,
+        );
         let _ = writeln!(
             out,
             "\nFinished: a plan returned whole (the greedy planner may stop with material left that no feasible dig takes); the area and time columns are over the finished plans. Refit: seeded by the network's sequence in the expected dig count, one fewer and one more, and by the nearest templates, as `plan` runs it; network's seeds alone: the same without the templates. Network's seed won: finished plans whose winning seed was the network's sequence (in any of its three counts), not a template. Plan's default: the first network's plan, or the greedy one where it has none (as `plan` does; its times leave out the failed learned attempt). Planning times are wall clock on the machine that ran the command, one task after the other; the benchmark figures are criterion's."
@@ -548,6 +552,17 @@ impl LearnedReport {
     pub fn write(&self, dir: &Path) -> Result<(), EvalError> {
         write_file(&dir.join("report.md"), &self.markdown())?;
         write_json(&dir.join("report.json"), self)
+    }
+}
+
+/// `heading` and a line "- planner: text" for each of `lines`, if any.
+fn per_planner(out: &mut String, heading: &str, lines: &[(&str, String)]) {
+    if lines.is_empty() {
+        return;
+    }
+    let _ = writeln!(out, "\n{heading}\n");
+    for (planner, text) in lines {
+        let _ = writeln!(out, "- {planner}: {text}");
     }
 }
 
