@@ -86,9 +86,9 @@ const FIRST_STEP: f64 = 0.05;
 /// made orthonormal; each then steps by the root mean square of the old
 /// steps. Why: a coordinate search creeps along a valley that lies across
 /// the variables' axes, and the profile error's valleys do (a dig's start
-/// x, chord and bucket attitudes move its cut together). Only the path's variables mix:
-/// not the type, not T (which [`Refit::moves`] may rule out), not a
-/// variable of empty range.
+/// x, chord and bucket attitudes move its cut together). Only the path's
+/// variables mix: not the type, not T (which [`Refit::moves`] may rule
+/// out), not a variable of empty range.
 pub fn compass<const N: usize, R: Refit<N> + ?Sized>(
     r: &mut R,
     lo: &[f64; N],
