@@ -7,7 +7,6 @@
 use crate::kinematics::LinkFrames;
 use crate::planner::{PlanError, PlannedDig, Planner};
 use crate::predictor::DigPredictor;
-use crate::template::learned::Corrector;
 use crate::template::{TaskNetwork, Template, TemplateSettings, TemplateWork};
 use crate::terrain::Terrain;
 use crate::trajectory::Trajectory;
@@ -210,26 +209,6 @@ impl Planner {
         let clock = std::time::Instant::now();
         let mut work = Box::new(TemplateWork::new(self)?);
         work.plan_learned_with(self, task, network, templates, settings)?;
-        let origin = match work.seed() {
-            0 => Origin::Network { digs: work.len() },
-            i => Origin::Template { index: i - 1 },
-        };
-        Ok(self.plan_of(&mut work, task, origin, clock))
-    }
-
-    /// [`Self::plan_learned_with`], the templates corrected first
-    /// ([`TemplateWork::plan_corrected`]).
-    pub fn plan_corrected(
-        &self,
-        task: &TrenchTask,
-        network: &TaskNetwork<'_>,
-        templates: &[Template],
-        corrector: &Corrector<'_>,
-        settings: &TemplateSettings,
-    ) -> Result<Plan, PlanError> {
-        let clock = std::time::Instant::now();
-        let mut work = Box::new(TemplateWork::new(self)?);
-        work.plan_corrected(self, task, network, templates, corrector, settings)?;
         let origin = match work.seed() {
             0 => Origin::Network { digs: work.len() },
             i => Origin::Template { index: i - 1 },

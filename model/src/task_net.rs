@@ -11,6 +11,7 @@ use burn::module::{Module, Param};
 use burn::nn::{Linear, Tanh};
 use burn::prelude::*;
 use infer::template::TaskNetworkFile;
+use infer::template::learned::TASK_INPUTS;
 
 /// The network (see the module docs).
 #[derive(Module, Debug)]
@@ -39,7 +40,7 @@ impl TaskNet {
     /// has (`infer::template::learned::TASK_OUTPUTS`, or
     /// `SKEWED_TASK_OUTPUTS` with the skews).
     pub fn init(hidden: &[usize], n: &TaskNormalisation, device: &Device, seed: u64) -> Self {
-        let mut widths = vec![n.x_mean.len()];
+        let mut widths = vec![TASK_INPUTS];
         widths.extend(hidden);
         widths.push(n.y_mean.len());
         let buffer = |v: &[f64]| dense::buffer(v.to_vec(), device);
@@ -53,8 +54,7 @@ impl TaskNet {
         }
     }
 
-    /// Raw X [B, 6] (a correction network's: [B, 6 + 78]) → normalised
-    /// outputs [B, 60] (78 with the skews).
+    /// Raw X [B, 6] → normalised box coordinates [B, 60].
     pub fn forward(&self, x_raw: Tensor<2>) -> Tensor<2> {
         let h = (x_raw - row(self.x_mean.clone())) / row(self.x_std.clone());
         dense::forward(&self.layers, &self.activation, h)

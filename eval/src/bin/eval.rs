@@ -188,11 +188,6 @@ enum Command {
         /// network's seeds alone).
         #[arg(long, default_value = "artifacts/templates.json")]
         templates: String,
-        /// Folder of correction networks (seed_<s>.json, `train_tasks
-        /// --pairs`): each corrects the carried templates for the task
-        /// network of its seed.
-        #[arg(long)]
-        correctors: Option<PathBuf>,
         /// The bounds, comma-separated (each at least 100).
         #[arg(long, value_delimiter = ',', default_values_t = eval::learned::bounds::DEFAULT_BOUNDS)]
         bounds: Vec<usize>,
@@ -381,7 +376,6 @@ fn run(cli: Cli) -> Result<(), EvalError> {
         Command::Bounds {
             networks,
             templates,
-            correctors,
             bounds: ladder,
             fresh,
             fresh_seed,
@@ -389,15 +383,10 @@ fn run(cli: Cli) -> Result<(), EvalError> {
         } => {
             let templates =
                 TemplatePlanning::load_arg(&templates).map_err(EvalError::BadArgument)?;
-            let correctors = match &correctors {
-                Some(dir) => eval::learned::load_networks(dir)?,
-                None => Vec::new(),
-            };
             let ladder = eval::learned::bounds::Ladder {
                 bounds: &ladder,
                 templates: &templates,
                 settings: TemplateSettings::default(),
-                correctors: &correctors,
             };
             bounds(&networks, &ladder, fresh, fresh_seed, &out, progress)?
         }

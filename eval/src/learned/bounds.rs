@@ -45,9 +45,6 @@ pub struct Ladder<'a> {
     pub templates: &'a [Template],
     /// Every setting but the bound.
     pub settings: TemplateSettings,
-    /// Correction networks: the one of a task network's seed corrects the
-    /// carried templates ([`Planner::plan_corrected`]).
-    pub correctors: &'a [TaskNetworkFile],
 }
 
 /// Plans every task from every network at each bound of `ladder`.
@@ -64,7 +61,6 @@ pub fn sweep(
         bounds,
         templates,
         settings,
-        correctors,
     } = *ladder;
     if bounds.is_empty() {
         return Err(EvalError::BadArgument("no bound to sweep".into()));
@@ -72,11 +68,6 @@ pub fn sweep(
     let mut points = Vec::new();
     for file in networks {
         let net = file.network()?;
-        let corrector = correctors
-            .iter()
-            .find(|c| c.seed == file.seed)
-            .map(|c| c.corrector())
-            .transpose()?;
         for &b in bounds {
             let s = TemplateSettings {
                 max_evaluations: b,
@@ -89,11 +80,11 @@ pub fn sweep(
             let rows: Vec<_> = tasks
                 .iter()
                 .map(|t| {
-                    let plan = match &corrector {
-                        Some(c) => planner.plan_corrected(&t.task, &net, templates, c, &s),
-                        None => planner.plan_learned_with(&t.task, &net, templates, &s),
-                    };
-                    let r = row(t, &name, plan);
+                    let r = row(
+                        t,
+                        &name,
+                        planner.plan_learned_with(&t.task, &net, templates, &s),
+                    );
                     bar.inc(1);
                     r
                 })
@@ -304,7 +295,6 @@ mod tests {
             bounds: &[100, 400],
             templates: &[],
             settings: TemplateSettings::default(),
-            correctors: &[],
         };
         let report = sweep(&planner, &tasks, &[network()], &ladder, &bar, "test").unwrap();
         let bounds: Vec<usize> = report.points.iter().map(|p| p.max_evaluations).collect();
@@ -330,7 +320,6 @@ mod tests {
             bounds,
             templates: &[],
             settings: TemplateSettings::default(),
-            correctors: &[],
         };
         let err = sweep(&planner, &[], &[network()], &ladder(&[50]), &bar, "t").unwrap_err();
         assert!(err.to_string().contains("bound 50"), "{err}");

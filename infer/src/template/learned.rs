@@ -91,61 +91,6 @@ impl<'a> TaskNetwork<'a> {
     }
 }
 
-/// Inputs of a correction network: the task's ([`TASK_INPUTS`]), then a
-/// carried plan's box coordinates ([`SKEWED_TASK_OUTPUTS`]).
-pub const CORRECTION_INPUTS: usize = TASK_INPUTS + SKEWED_TASK_OUTPUTS;
-
-/// A correction network: (task, a near library plan carried over to it)
-/// → the change the template planner's refit makes to that plan there.
-/// Why: neighbouring library plans often lie in different basins, so a
-/// network from the task alone averages them; from a carried plan, the
-/// refit stays in its basin and the correction is local.
-#[derive(Debug, Clone, Copy)]
-pub struct Corrector<'a>(Network<'a, CORRECTION_INPUTS, SKEWED_TASK_OUTPUTS>);
-
-impl<'a> Corrector<'a> {
-    /// Checks widths (84 inputs, 78 outputs) and parameters as
-    /// [`Network::sized`] does.
-    pub fn new(widths: &[usize], params: &'a [f64]) -> Result<Self, Error> {
-        Ok(Corrector(Network::sized(widths, params)?))
-    }
-
-    /// `digs` (a plan carried over to `task`, within `design`'s box)
-    /// corrected in place, each variable kept in the box. An error if the
-    /// forward pass is not finite or there are more than
-    /// [`MAX_TEMPLATE_DIGS`] digs.
-    pub fn correct(
-        &self,
-        cfg: &Config,
-        task: &TrenchTask,
-        design: &DesignProfile,
-        digs: &mut [DigVars],
-    ) -> Result<(), Error> {
-        if digs.is_empty() || digs.len() > MAX_TEMPLATE_DIGS {
-            return Err(Error::BadConfig {
-                field: "corrected digs (1 to MAX_TEMPLATE_DIGS)",
-            });
-        }
-        let (lo, hi) = search_box(cfg, design, true);
-        let mut x = [0.0; CORRECTION_INPUTS];
-        x[..TASK_INPUTS].copy_from_slice(&task_inputs(task, digs.len()));
-        for (k, dig) in digs.iter().enumerate() {
-            let u = box_coordinates(cfg, design, dig, DIG_VARS);
-            for i in 0..DIG_VARS {
-                x[TASK_INPUTS + k * DIG_VARS + i] = u[i].clamp(0.0, 1.0);
-            }
-        }
-        let dy = self.0.forward(&x)?;
-        for (k, dig) in digs.iter_mut().enumerate() {
-            for i in 0..DIG_VARS {
-                let u = x[TASK_INPUTS + k * DIG_VARS + i] + dy[k * DIG_VARS + i];
-                dig[i] = lo[i] + u.clamp(0.0, 1.0) * (hi[i] - lo[i]);
-            }
-        }
-        Ok(())
-    }
-}
-
 /// The network's input for `task` planned in `count` digs.
 pub fn task_inputs(task: &TrenchTask, count: usize) -> [f64; TASK_INPUTS] {
     let f = features(task);
@@ -207,10 +152,7 @@ mod file {
                     Self::FORMAT
                 ));
             }
-            // A task network, or a correction network.
             file.network()
-                .map(|_| ())
-                .or_else(|e| file.corrector().map(|_| ()).map_err(|_| e))
                 .map_err(|e| format!("task network file: {e}"))?;
             Ok(file)
         }
@@ -221,11 +163,6 @@ mod file {
 
         pub fn network(&self) -> Result<TaskNetwork<'_>, Error> {
             TaskNetwork::new(&self.widths, &self.params)
-        }
-
-        /// The file read as a correction network ([`super::Corrector`]).
-        pub fn corrector(&self) -> Result<super::Corrector<'_>, Error> {
-            super::Corrector::new(&self.widths, &self.params)
         }
     }
 }

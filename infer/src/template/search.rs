@@ -3,7 +3,7 @@
 //! successive halving for a share of the bound; and the plan's phases in
 //! order.
 
-use super::learned::{Corrector, TaskNetwork};
+use super::learned::TaskNetwork;
 use super::{
     Champion, MAX_TEMPLATE_DIGS, Played, Steps, Template, TemplateSettings, TemplateWork, WINDOW,
     WINDOW_AFTER, WINDOW_BEFORE,
@@ -36,12 +36,8 @@ enum Source<'s, 'n> {
     /// The nearest of these templates, carried over.
     Templates(&'s [Template]),
     /// The network's sequence for the task, and the nearest of these
-    /// templates, carried over (and corrected, given a corrector).
-    Network(
-        &'s TaskNetwork<'n>,
-        &'s [Template],
-        Option<&'s Corrector<'n>>,
-    ),
+    /// templates, carried over.
+    Network(&'s TaskNetwork<'n>, &'s [Template]),
 }
 
 /// What the seeds' search hands on: the best refit of a seed by value
@@ -77,7 +73,7 @@ impl TemplateWork {
         network: &TaskNetwork<'_>,
         settings: &TemplateSettings,
     ) -> Result<(), PlanError> {
-        self.plan_from(planner, task, Source::Network(network, &[], None), settings)
+        self.plan_from(planner, task, Source::Network(network, &[]), settings)
     }
 
     /// [`Self::plan_learned`], the nearest of `templates` (up to
@@ -94,23 +90,7 @@ impl TemplateWork {
         templates: &[Template],
         settings: &TemplateSettings,
     ) -> Result<(), PlanError> {
-        let source = Source::Network(network, templates, None);
-        self.plan_from(planner, task, source, settings)
-    }
-
-    /// [`Self::plan_learned_with`], each carried-over template corrected by
-    /// `corrector` before the race.
-    pub fn plan_corrected(
-        &mut self,
-        planner: &Planner,
-        task: &TrenchTask,
-        network: &TaskNetwork<'_>,
-        templates: &[Template],
-        corrector: &Corrector<'_>,
-        settings: &TemplateSettings,
-    ) -> Result<(), PlanError> {
-        let source = Source::Network(network, templates, Some(corrector));
-        self.plan_from(planner, task, source, settings)
+        self.plan_from(planner, task, Source::Network(network, templates), settings)
     }
 
     fn plan_from(
@@ -192,7 +172,7 @@ impl TemplateWork {
             Source::Templates(templates) => {
                 self.skew |= self.nearest_seeds(&mut near, templates, expected, settings, 0);
             }
-            Source::Network(net, templates, _) => {
+            Source::Network(net, templates) => {
                 // One library plan in six has a dig fewer or more than
                 // `expected`: the network's plan in each count is a seed.
                 let counts = [Some(expected), expected.checked_sub(1), Some(expected + 1)];
@@ -220,9 +200,6 @@ impl TemplateWork {
         self.racers = [None; MAX_NEIGHBOURS];
         for (slot, (i, t)) in self.racers.iter_mut().zip(near.into_iter().flatten()) {
             let mut vars = t.carried_to(cfg, &self.design);
-            if let (Source::Network(_, _, Some(c)), 1..) = (source, i) {
-                c.correct(cfg, &self.task, &self.design, &mut vars[..t.count])?;
-            }
             vars[..t.count].iter_mut().for_each(clamp);
             let c = Champion {
                 template: i,

@@ -8,9 +8,7 @@ use std::process::ExitCode;
 use train::config::RuntimeConfig;
 use train::tasks::report::{SeedRecord, SeedRun, TaskTrainReport, plot};
 use train::tasks::smoothness::smoothness;
-use train::tasks::{
-    TaskTrainSettings, digest, is_validation, load_library, load_pairs, train_task_network,
-};
+use train::tasks::{TaskTrainSettings, digest, is_validation, load_library, train_task_network};
 
 #[derive(Parser, Debug)]
 #[command(about = "Train the task network on a plan library (one network per seed)")]
@@ -18,11 +16,6 @@ struct Cli {
     /// Library folder (`dataset_gen library` writes it).
     #[arg(long, default_value = "runs/library")]
     library: PathBuf,
-    /// Refit pairs (`dataset_gen/examples/refit_pairs.rs`): train a
-    /// correction network (task and carried plan → the refit's change)
-    /// instead of the task network.
-    #[arg(long, conflicts_with = "library")]
-    pairs: Option<PathBuf>,
     /// Output folder: seed_<s>.json per seed, report.{md,json}, loss.svg.
     #[arg(long, default_value = "artifacts/task_network")]
     out: PathBuf,
@@ -66,13 +59,7 @@ fn run(cli: &Cli) -> Result<(), String> {
     }
     let planner = infer::Planner::new(&infer::Config::default(), &Default::default())
         .map_err(|e| e.to_string())?;
-    let (samples, skipped) = match &cli.pairs {
-        Some(p) => (
-            load_pairs(p, &planner).map_err(|e| e.to_string())?,
-            Default::default(),
-        ),
-        None => load_library(&cli.library, &planner).map_err(|e| e.to_string())?,
-    };
+    let (samples, skipped) = load_library(&cli.library, &planner).map_err(|e| e.to_string())?;
     std::fs::create_dir_all(&cli.out).map_err(|e| format!("{}: {e}", cli.out.display()))?;
     let runtime = RuntimeConfig {
         backend: "flex".into(),
@@ -80,12 +67,7 @@ fn run(cli: &Cli) -> Result<(), String> {
         threads: 1,
         checkpoint_every: usize::MAX,
     };
-    let library = cli
-        .pairs
-        .as_ref()
-        .unwrap_or(&cli.library)
-        .display()
-        .to_string();
+    let library = cli.library.display().to_string();
     let digest = digest(&samples);
     let n_val = samples.iter().filter(|s| is_validation(s)).count();
     let n_train = samples.len() - n_val;

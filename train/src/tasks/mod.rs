@@ -34,7 +34,7 @@ use burn::tensor::TensorData;
 use dataset_gen::jobs::progress_bar;
 use infer::sequence::{DIG_VARS, SKEW_PEAK, SKEW_RANGE, SPEC_VARS, vars_per_dig};
 use infer::template::Template;
-use infer::template::learned::{box_coordinates, task_inputs};
+use infer::template::learned::{TASK_INPUTS, box_coordinates, task_inputs};
 use infer::{DigType, Planner, TrenchTask};
 use model::physics::sequence::{Designs, play};
 use model::physics::{dig_figures, motion_penalty};
@@ -52,16 +52,10 @@ pub struct TaskSample {
     /// Its task number in the library (which split it falls in).
     pub index: usize,
     pub task: TrenchTask,
-    /// L, D, β1, β2, far edge and the dig count (`task_inputs`); for a
-    /// correction network, then the carried plan's box coordinates.
-    pub x: Vec<f64>,
-    /// Box coordinates of each dig, [`Self::vars`] per dig; zeros past
-    /// `count`. For a correction network, the refitted plan's less the
-    /// carried plan's.
+    /// L, D, β1, β2, far edge and the dig count (`task_inputs`).
+    pub x: [f64; TASK_INPUTS],
+    /// Box coordinates of each dig, [`Self::vars`] per dig; zeros past `count`.
     pub y: Vec<f64>,
-    /// What the network's output is added to: the carried plan's box
-    /// coordinates for a correction network, zeros for the task network.
-    pub given: Vec<f64>,
     pub count: usize,
     /// Each dig's type and query X = [θs1..3, θe1..3, H].
     pub queries: Vec<(DigType, [f64; 7])>,
@@ -73,7 +67,7 @@ pub fn digest(samples: &[TaskSample]) -> u64 {
     let words = samples.iter().flat_map(|s| {
         [s.index as u64, s.count as u64]
             .into_iter()
-            .chain(s.x.iter().chain(&s.y).chain(&s.given).map(|v| v.to_bits()))
+            .chain(s.x.iter().chain(&s.y).map(|v| v.to_bits()))
     });
     dataset_gen::rng::fnv1a(words.flat_map(u64::to_le_bytes))
 }
@@ -133,8 +127,7 @@ pub fn load_library(
         samples.push(TaskSample {
             index,
             task: plan.task,
-            x: task_inputs(&plan.task, template.digs().len()).to_vec(),
-            given: vec![0.0; y.len()],
+            x: task_inputs(&plan.task, template.digs().len()),
             y,
             count: template.digs().len(),
             queries: plan
@@ -151,74 +144,6 @@ pub fn load_library(
         });
     }
     Ok((samples, skipped))
-}
-
-/// One refit pair (`dataset_gen/examples/refit_pairs.rs`): a library
-/// task, the plan of a near library task carried over to it, and that
-/// plan refitted there by the template planner, in the same dig count.
-#[derive(Debug, Clone, Deserialize)]
-struct RefitPair {
-    index: usize,
-    task: TrenchTask,
-    carried: Vec<infer::sequence::DigVars>,
-    refit: Vec<infer::sequence::DigVars>,
-    queries: Vec<(DigType, [f64; 7])>,
-}
-
-/// Refit pairs as samples for a correction network: X is the task's
-/// inputs and the carried plan's box coordinates (clamped to the box, as
-/// the planner clamps its seeds), Y the refitted plan's less the carried
-/// plan's. A pair's task number is its library task's, so every pair of a
-/// validation task validates.
-pub fn load_pairs(path: &Path, planner: &Planner) -> Result<Vec<TaskSample>, TrainError> {
-    let bad = |detail: String| TrainError::BadData {
-        path: path.to_path_buf(),
-        detail,
-    };
-    let text = std::fs::read_to_string(path).map_err(|e| bad(e.to_string()))?;
-    let pairs: Vec<RefitPair> =
-        serde_json::from_str(&text).map_err(|e| bad(format!("not refit pairs ({e})")))?;
-    let skewed = pairs
-        .iter()
-        .flat_map(|p| p.carried.iter().chain(&p.refit))
-        .any(|d| d[SPEC_VARS..].iter().any(|&k| k != 0.0));
-    let w = vars_per_dig(skewed);
-    let cfg = planner.config();
-    let mut samples = Vec::with_capacity(pairs.len());
-    for p in pairs {
-        let count = p.refit.len();
-        if count == 0 || count > DIGS || p.carried.len() != count || p.queries.len() != count {
-            return Err(bad(format!(
-                "pair of task {}: 1 to {DIGS} digs in each plan",
-                p.index
-            )));
-        }
-        let design = infer::DesignProfile::new(cfg, &p.task);
-        let (mut given, mut y) = (vec![0.0; DIGS * w], vec![0.0; DIGS * w]);
-        for k in 0..count {
-            let c = box_coordinates(cfg, &design, &p.carried[k], w);
-            let r = box_coordinates(cfg, &design, &p.refit[k], w);
-            for i in 0..w {
-                given[k * w + i] = c[i].clamp(0.0, 1.0);
-                y[k * w + i] = r[i] - given[k * w + i];
-            }
-        }
-        let mut x = task_inputs(&p.task, count).to_vec();
-        x.extend(&given);
-        samples.push(TaskSample {
-            index: p.index,
-            task: p.task,
-            x,
-            y,
-            given,
-            count,
-            queries: p.queries,
-        });
-    }
-    if samples.is_empty() {
-        return Err(bad("no refit pairs".into()));
-    }
-    Ok(samples)
 }
 
 /// Every eighth task (by library index) validates; the rest train.
@@ -360,7 +285,7 @@ fn normalisation(train: &[&TaskSample]) -> TaskNormalisation {
         }
         (mean, std)
     };
-    let (x_mean, x_std) = stats(train[0].x.len(), &|s, j| Some(s.x[j]), 0.0);
+    let (x_mean, x_std) = stats(TASK_INPUTS, &|s, j| Some(s.x[j]), 0.0);
     let (y_mean, y_std) = stats(
         train[0].y.len(),
         &|s, j| (j / s.vars() < s.count).then_some(s.y[j]),
@@ -382,7 +307,6 @@ fn normalisation(train: &[&TaskSample]) -> TaskNormalisation {
 struct Batch {
     x: Tensor<2>,
     y: Tensor<2>,
-    given: Tensor<2>,
     mask: Tensor<2>,
     digs: f64,
     by_type: Vec<(DigType, Tensor<2>, Tensor<2>)>,
@@ -397,16 +321,13 @@ fn batch(
 ) -> Batch {
     let b = samples.len();
     let (outputs, w) = (samples[0].y.len(), samples[0].vars());
-    let inputs = samples[0].x.len();
-    let mut x: Vec<f64> = Vec::with_capacity(b * inputs);
+    let mut x = Vec::with_capacity(b * TASK_INPUTS);
     let mut y: Vec<f64> = Vec::with_capacity(b * outputs);
-    let mut given: Vec<f64> = Vec::with_capacity(b * outputs);
     let mut mask = Vec::with_capacity(b * outputs);
     let mut digs = 0;
     for s in samples {
-        x.extend(&s.x);
+        x.extend(s.x);
         y.extend(&s.y);
-        given.extend(&s.given);
         mask.extend((0..outputs).map(|j| if j / w < s.count { 1.0 } else { 0.0 }));
         digs += s.count;
     }
@@ -454,9 +375,8 @@ fn batch(
     });
     Batch {
         designs,
-        x: Tensor::from_data(TensorData::new(x, [b, inputs]), device),
+        x: Tensor::from_data(TensorData::new(x, [b, TASK_INPUTS]), device),
         y: Tensor::from_data(TensorData::new(y, [b, outputs]), device),
-        given: Tensor::from_data(TensorData::new(given, [b, outputs]), device),
         mask: Tensor::from_data(TensorData::new(mask, [b, outputs]), device),
         digs: digs as f64,
         by_type,
@@ -488,7 +408,7 @@ fn terms(net: &TaskNet, batch: &Batch, cfg: &infer::Config, s: &TaskTrainSetting
     let y_n = net.forward(batch.x.clone());
     let target_n = net.normalise_y(batch.y.clone());
     let data = ((y_n.clone() - target_n).square() * batch.mask.clone()).sum() / batch.digs;
-    let u = net.denormalise_y(y_n) + batch.given.clone();
+    let u = net.denormalise_y(y_n);
     let (profile, fill, played_queries) = match &batch.designs {
         Some((designs, digs)) => {
             let (p, f, q) = carved_terms(cfg, s, designs, u.clone(), digs.clone());
