@@ -230,6 +230,50 @@ fn a_plan_too_fast_for_its_limits_is_retimed_before_it_is_given_up() {
 }
 
 #[test]
+fn a_plan_outside_the_tolerance_is_retried_and_the_better_kept() {
+    let p = planner();
+    let templates = shipped_templates();
+    let task = TrenchTask::reference('C').unwrap();
+    let once = TemplateSettings {
+        neighbours: 2,
+        max_evaluations: 100,
+        ..TemplateSettings::default()
+    };
+    let first = p.plan_from_templates(&task, &templates, &once).unwrap();
+    let missed = |plan: &Plan| plan.metrics.under_dug + plan.metrics.over_dug;
+    // Any plan that leaves material is outside a zero tolerance.
+    let retry = TemplateSettings {
+        retry: 600,
+        tolerance: 0.0,
+        ..once
+    };
+    let mut work = Box::new(TemplateWork::new(&p).unwrap());
+    let before = allocations();
+    work.plan(&p, &task, &templates, &retry).unwrap();
+    assert_eq!(allocations(), before, "a retried plan allocated");
+    assert!(work.evaluations() > once.max_evaluations);
+    assert!(work.evaluations() <= once.max_evaluations + retry.retry);
+    let retried = p.plan_from_templates(&task, &templates, &retry).unwrap();
+    assert_eq!(retried.verify(&p).unwrap(), retried.metrics);
+    assert!(missed(&retried) <= missed(&first));
+    assert!(
+        missed(&retried) < missed(&first) - 1e-3,
+        "the retry found no better plan"
+    );
+    // Within the tolerance, a plan is not retried: the same plan.
+    let met = TemplateSettings {
+        tolerance: 1.0,
+        ..retry
+    };
+    let kept = p.plan_from_templates(&task, &templates, &met).unwrap();
+    assert_eq!(kept.metrics, first.metrics);
+    assert_eq!(kept.digs.len(), first.digs.len());
+    // A retry below the least bound is refused.
+    let small = TemplateSettings { retry: 50, ..once };
+    assert!(p.plan_from_templates(&task, &templates, &small).is_err());
+}
+
+#[test]
 fn planning_from_templates_does_not_allocate() {
     let planner = planner();
     let templates = shipped_templates();

@@ -180,6 +180,15 @@ pub struct TemplateSettings {
     /// against 847 of 960 plans within 3 %, mean under-dug 1.74 against
     /// 1.77 % (2026-12-06); at 4,800 evaluations it did not pay.
     pub rotate: bool,
+    /// Evaluations of a second attempt for a plan that misses the design
+    /// by more than `tolerance` (or that found no plan); the better plan
+    /// is kept, so a task takes at most `max_evaluations` + `retry`. 0:
+    /// none. A larger bound's race ends in other basins, so a second
+    /// attempt mends some misses (see the crate's README).
+    pub retry: usize,
+    /// The under- and over-dug fractions of the design a plan may leave
+    /// before it is retried.
+    pub tolerance: f64,
 }
 
 impl Default for TemplateSettings {
@@ -193,6 +202,8 @@ impl Default for TemplateSettings {
             min_step: 1e-4,
             retime: true,
             rotate: true,
+            retry: 0,
+            tolerance: 0.03,
         }
     }
 }
@@ -205,12 +216,15 @@ impl TemplateSettings {
             && self.weight_objective.is_finite()
             && (0.0..=1.0).contains(&self.seed_share)
             && self.min_step > 0.0
-            && self.min_step < 1.0;
+            && self.min_step < 1.0
+            && (self.retry == 0 || self.retry >= MIN_EVALUATIONS + MAX_TEMPLATE_DIGS)
+            && self.tolerance >= 0.0
+            && self.tolerance.is_finite();
         if ok {
             Ok(())
         } else {
             Err(Error::BadConfig {
-                field: "template settings (neighbours 1–8, max_evaluations ≥ 100, weight_objective ≥ 0, seed_share in [0, 1], min_step in (0, 1))",
+                field: "template settings (neighbours 1–8, max_evaluations ≥ 100, weight_objective ≥ 0, seed_share in [0, 1], min_step in (0, 1), retry 0 or ≥ 106, tolerance ≥ 0)",
             })
         }
     }

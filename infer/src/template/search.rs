@@ -5,8 +5,8 @@
 
 use super::learned::TaskNetwork;
 use super::{
-    Champion, MAX_TEMPLATE_DIGS, Played, Steps, Template, TemplateSettings, TemplateWork, WINDOW,
-    WINDOW_AFTER, WINDOW_BEFORE,
+    Champion, MAX_TEMPLATE_DIGS, MIN_EVALUATIONS, Played, Steps, Template, TemplateSettings,
+    TemplateWork, WINDOW, WINDOW_AFTER, WINDOW_BEFORE,
 };
 use crate::planner::{PlanError, Planner};
 use crate::sequence::MAX_NEIGHBOURS;
@@ -38,6 +38,13 @@ enum Source<'s, 'n> {
     /// The network's sequence for the task, and the nearest of these
     /// templates, carried over.
     Network(&'s TaskNetwork<'n>, &'s [Template]),
+}
+
+/// A first attempt's plan kept while a retry runs.
+struct Kept {
+    plan: Champion,
+    stretch: [f64; MAX_TEMPLATE_DIGS],
+    dig_evaluations: [usize; MAX_TEMPLATE_DIGS],
 }
 
 /// What the seeds' search hands on: the best refit of a seed by value
@@ -93,6 +100,10 @@ impl TemplateWork {
         self.plan_from(planner, task, Source::Network(network, templates), settings)
     }
 
+    /// One attempt ([`Self::attempt`]), and where its plan misses the
+    /// design by more than [`TemplateSettings::tolerance`] (or there is
+    /// none), a second with [`TemplateSettings::retry`] evaluations; the
+    /// better plan is kept.
     fn plan_from(
         &mut self,
         planner: &Planner,
@@ -100,8 +111,55 @@ impl TemplateWork {
         source: Source<'_, '_>,
         settings: &TemplateSettings,
     ) -> Result<(), PlanError> {
-        self.planned = 0;
         settings.validate()?;
+        let first = self.attempt(planner, task, source, settings);
+        if settings.retry == 0 || (first.is_ok() && self.within(settings.tolerance)) {
+            return first;
+        }
+        let kept = first.is_ok().then(|| Kept {
+            plan: Champion::of(self.seed, &self.best),
+            stretch: self.stretch,
+            dig_evaluations: self.dig_evaluations,
+        });
+        let spent = self.evaluations;
+        // The kept plan's replay comes out of the retry's bound.
+        let reserve = kept.as_ref().map_or(0, |k| k.plan.count);
+        let again = TemplateSettings {
+            max_evaluations: (settings.retry - reserve).max(MIN_EVALUATIONS),
+            ..*settings
+        };
+        let second = self.attempt(planner, task, source, &again);
+        self.evaluations += spent;
+        match kept {
+            Some(k) if second.is_err() || k.plan.value <= self.best.value => {
+                self.replay(planner, &k.plan, settings);
+                self.stretch = k.stretch;
+                self.dig_evaluations = k.dig_evaluations;
+                self.check(planner)?;
+                self.planned = self.best.count;
+                Ok(())
+            }
+            _ => second,
+        }
+    }
+
+    /// Whether the plan just made leaves each of under- and over-dug area
+    /// within `tolerance` of the design.
+    fn within(&mut self, tolerance: f64) -> bool {
+        let m = self.metrics();
+        m.under_dug <= tolerance && m.over_dug <= tolerance
+    }
+
+    /// The plan's phases in order: seeds raced, the winner refitted, the
+    /// fallback if it stays infeasible, retiming, the final check.
+    fn attempt(
+        &mut self,
+        planner: &Planner,
+        task: &TrenchTask,
+        source: Source<'_, '_>,
+        settings: &TemplateSettings,
+    ) -> Result<(), PlanError> {
+        self.planned = 0;
         let expected = planner.digs_for(task)?;
         self.start(planner, task)?;
         let seeds = self.search(planner, source, expected, settings)?;

@@ -55,7 +55,8 @@ impl TemplateWork {
     }
 
     /// Exact dig evaluations the last plan charged against
-    /// [`TemplateSettings::max_evaluations`]. A candidate whose replay
+    /// [`TemplateSettings::max_evaluations`] (and, if it was retried,
+    /// [`TemplateSettings::retry`]). A candidate whose replay
     /// stopped at a dig that breaks a constraint is charged in full, so
     /// the evaluations actually made (the sum of the plan's per-dig counts)
     /// can be fewer.
