@@ -260,6 +260,25 @@ fn a_plan_outside_the_tolerance_is_retried_and_the_better_kept() {
         missed(&retried) < missed(&first) - 1e-3,
         "the retry found no better plan"
     );
+    // A retry too small to do better: the first plan is kept, as it was.
+    let larger = TemplateSettings {
+        max_evaluations: 600,
+        ..once
+    };
+    let good = p.plan_from_templates(&task, &templates, &larger).unwrap();
+    let short = TemplateSettings {
+        retry: 106,
+        tolerance: 0.0,
+        ..larger
+    };
+    work.plan(&p, &task, &templates, &short).unwrap();
+    assert!(work.evaluations() > larger.max_evaluations);
+    let restored = p.plan_from_templates(&task, &templates, &short).unwrap();
+    assert_eq!(restored.metrics, good.metrics);
+    for (a, b) in restored.digs.iter().zip(&good.digs) {
+        assert_eq!((a.dig.params, a.dig.stretch), (b.dig.params, b.dig.stretch));
+    }
+    assert_eq!(restored.verify(&p).unwrap(), restored.metrics);
     // Within the tolerance, a plan is not retried: the same plan.
     let met = TemplateSettings {
         tolerance: 1.0,
