@@ -349,6 +349,20 @@ mod tests {
     }
 
     #[test]
+    fn a_planners_name_says_its_bound_and_any_retry() {
+        let s = TemplateSettings::default();
+        assert_eq!(
+            learned_name(2, "refit", &s),
+            "learned seed 2 (refit, ≤ 9600 evaluations)"
+        );
+        let retried = TemplateSettings { retry: 19200, ..s };
+        assert_eq!(
+            learned_name(2, "refit", &retried),
+            "learned seed 2 (refit, ≤ 9600 evaluations, a miss retried with 19200)"
+        );
+    }
+
+    #[test]
     fn plans_default_is_the_learned_plan_else_the_greedy_one() {
         let settings = TemplateSettings::default();
         let learned = learned_name(2, "refit", &settings);
