@@ -5,8 +5,8 @@
 
 use super::learned::TaskNetwork;
 use super::{
-    Champion, MAX_TEMPLATE_DIGS, MIN_EVALUATIONS, Played, Steps, Template, TemplateSettings,
-    TemplateWork, WINDOW, WINDOW_AFTER, WINDOW_BEFORE,
+    Champion, MAX_TEMPLATE_DIGS, Played, Steps, Template, TemplateSettings, TemplateWork, WINDOW,
+    WINDOW_AFTER, WINDOW_BEFORE,
 };
 use crate::planner::{PlanError, Planner};
 use crate::sequence::MAX_NEIGHBOURS;
@@ -122,10 +122,11 @@ impl TemplateWork {
             dig_evaluations: self.dig_evaluations,
         });
         let spent = self.evaluations;
-        // The kept plan's replay comes out of the retry's bound.
+        // The kept plan's replay comes out of the retry's bound (at least
+        // MIN_EVALUATIONS + MAX_TEMPLATE_DIGS, `validate` says).
         let reserve = kept.as_ref().map_or(0, |k| k.plan.count);
         let again = TemplateSettings {
-            max_evaluations: (settings.retry - reserve).max(MIN_EVALUATIONS),
+            max_evaluations: settings.retry - reserve,
             ..*settings
         };
         let second = self.attempt(planner, task, source, &again);
