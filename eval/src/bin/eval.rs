@@ -355,7 +355,7 @@ fn run(cli: Cli) -> Result<(), EvalError> {
                 None => TemplateSettings::default(),
                 Some(path) => {
                     let s: TemplateSettings = read_json(path)?;
-                    s.validate()
+                    s.validate(&infer::Config::default())
                         .map_err(|e| EvalError::BadArgument(format!("{}: {e}", path.display())))?;
                     s
                 }

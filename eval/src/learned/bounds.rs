@@ -73,7 +73,7 @@ pub fn sweep(
                 max_evaluations: b,
                 ..settings
             };
-            s.validate().map_err(|e| {
+            s.validate(planner.config()).map_err(|e| {
                 EvalError::BadArgument(format!("bound {b}: {e} (the least is {MIN_EVALUATIONS})"))
             })?;
             let name = format!("learned seed {} (≤ {b} evaluations)", file.seed);

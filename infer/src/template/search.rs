@@ -111,7 +111,7 @@ impl TemplateWork {
         source: Source<'_, '_>,
         settings: &TemplateSettings,
     ) -> Result<(), PlanError> {
-        settings.validate()?;
+        settings.validate(planner.config())?;
         let first = self.attempt(planner, task, source, settings);
         if settings.retry == 0 || (first.is_ok() && self.within(settings.tolerance)) {
             return first;
