@@ -313,6 +313,9 @@ pub struct TemplateWork {
     /// The seeds in the race, each refit's best and the directions and
     /// steps it reached (about 70 kB: here, not on the stack).
     racers: Racers,
+    /// The design's height at each node of the window, kept from the
+    /// task's start for [`TemplateWork::profile_error`].
+    design_heights: [f64; WINDOW],
 }
 
 impl core::fmt::Debug for TemplateWork {

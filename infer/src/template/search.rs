@@ -203,6 +203,9 @@ impl TemplateWork {
             }
             .into());
         }
+        for (k, d) in self.design_heights[..w].iter_mut().enumerate() {
+            *d = self.design.height_at(t.x_at(j0 + k));
+        }
         self.best.after[0][..w].copy_from_slice(&t.heights()[j0..j0 + w]);
         self.candidate.after[0] = self.best.after[0];
         self.best.violation = f64::INFINITY;

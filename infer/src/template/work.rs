@@ -42,6 +42,7 @@ impl TemplateWork {
             seed: 0,
             skew: false,
             racers: [None; MAX_NEIGHBOURS],
+            design_heights: [0.0; WINDOW],
         })
     }
 
@@ -158,12 +159,11 @@ impl TemplateWork {
             }
             p.after[j + 1][..w].copy_from_slice(&self.terrain.heights()[j0..j0 + w]);
         }
-        let m = self.design.compare(&self.terrain);
         let (violation, objective) = p.score[..n]
             .iter()
             .fold((0.0, 0.0), |a, s| (a.0 + s.violation, a.1 + s.objective));
         p.violation = violation;
-        p.value = m.under_dug + m.over_dug + weight_objective * objective / n as f64;
+        self.candidate.value = self.profile_error() + weight_objective * objective / n as f64;
         true
     }
 
@@ -193,9 +193,32 @@ impl TemplateWork {
             }
             self.terrain.commit(&self.carve);
         }
-        let m = self.design.compare(&self.terrain);
-        p.value = m.under_dug + m.over_dug;
+        self.candidate.value = self.profile_error();
         true
+    }
+
+    /// The working terrain's under- plus over-dug fraction of the design,
+    /// bit for bit [`DesignProfile::compare`]'s, over the window alone with
+    /// the design's heights kept: outside the window the terrain is the
+    /// task's flat start at ground level, as is the design, so those nodes
+    /// add exact zeros. Why: the whole surface's comparison took a ninth
+    /// of a plan's time.
+    fn profile_error(&self) -> f64 {
+        let (j0, w) = self.window;
+        let ground = self.design.ground;
+        let (mut under, mut over) = (0.0f64, 0.0f64);
+        let surface = &self.terrain.heights()[j0..j0 + w];
+        for (&s, &d) in surface.iter().zip(&self.design_heights[..w]) {
+            under += (s.min(ground) - d).max(0.0);
+            over += (d - s).max(0.0);
+        }
+        let (dx, area) = (self.terrain.dx(), self.design.area());
+        let error = under * dx / area + over * dx / area;
+        debug_assert_eq!(error.to_bits(), {
+            let m = self.design.compare(&self.terrain);
+            (m.under_dug + m.over_dug).to_bits()
+        });
+        error
     }
 
     /// The candidate, which differs from the best from dig `j` on, becomes the best.
