@@ -292,6 +292,45 @@ fn a_plan_outside_the_tolerance_is_retried_and_the_better_kept() {
     assert!(p.plan_from_templates(&task, &templates, &small).is_err());
 }
 
+/// A refit that settles hands the rest of the bound on (the race's
+/// runners-up, then a restart): it never makes a plan worse, and on
+/// `eval learned`'s fresh task F36 (two digs, whose refit settles with
+/// a good part of the bound left) it makes a better one.
+#[test]
+fn the_bound_a_settled_refit_leaves_goes_on_and_never_makes_a_plan_worse() {
+    let p = planner();
+    let templates = shipped_templates();
+    let task = TrenchTask {
+        far_edge: 1.006_049_375_127_132_4,
+        ..TrenchTask::new_deg(
+            0.490_277_951_154_707_2,
+            0.130_814_652_051_311_85,
+            46.256_370_183_908_62,
+            49.375_543_698_457_48,
+        )
+    };
+    let on = TemplateSettings::default();
+    let off = TemplateSettings {
+        leftover: false,
+        ..on
+    };
+    let mut work = Box::new(TemplateWork::new(&p).unwrap());
+    work.plan(&p, &task, &templates, &off).unwrap();
+    let (before, spent) = (work.metrics(), work.evaluations());
+    work.plan(&p, &task, &templates, &on).unwrap();
+    let after = work.metrics();
+    assert!(
+        spent < on.max_evaluations * 3 / 4,
+        "F36 settles early: {spent}"
+    );
+    assert!(work.evaluations() > spent && work.evaluations() <= on.max_evaluations);
+    let missed = |m: &infer::ProfileMetrics| m.under_dug + m.over_dug;
+    assert!(
+        missed(&after) < missed(&before),
+        "{after:?} against {before:?}"
+    );
+}
+
 #[test]
 fn planning_from_templates_does_not_allocate() {
     let planner = planner();

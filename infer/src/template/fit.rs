@@ -17,10 +17,12 @@
 //! near ties, for half the work.
 
 use super::search::retiming;
-use super::{Champion, Steps, TemplateSettings, TemplateWork};
+use super::{Champion, MAX_TEMPLATE_DIGS, Steps, TemplateSettings, TemplateWork};
 use crate::config::Config;
 use crate::planner::Planner;
-use crate::sequence::{DURATION, DigVars, Refit, better, compass, search_box};
+use crate::sequence::{
+    Axes, DURATION, DigVars, MAX_NEIGHBOURS, Refit, better, compass, search_box,
+};
 
 /// The template work seen by the compass search.
 struct Refitting<'a> {
@@ -128,7 +130,8 @@ impl TemplateWork {
 
     /// The best seed's refit made the best sequence again and refitted
     /// with the rest of the bound, less what the fallback's replay and
-    /// retiming keep back.
+    /// retiming keep back; then what a settled refit leaves
+    /// ([`TemplateSettings::leftover`]).
     pub(super) fn fit(
         &mut self,
         planner: &Planner,
@@ -137,8 +140,70 @@ impl TemplateWork {
     ) {
         let (c, mut steps) = champion;
         self.replay(planner, &c, settings);
-        let n = self.best.count;
-        let limit = settings.max_evaluations - (1 + retiming(settings)) * n;
+        let limit = settings.max_evaluations - keep_back(settings, self.best.count);
         self.refit(planner, &mut steps, limit, settings);
+        if settings.leftover {
+            self.runners_up(planner, settings);
+            self.restart(planner, settings);
+        }
+    }
+
+    /// The race's runners-up, in their order, each refitted on from the
+    /// steps it reached while the bound allows; the best of all is kept.
+    fn runners_up(&mut self, planner: &Planner, settings: &TemplateSettings) {
+        for rank in 1..MAX_NEIGHBOURS {
+            let Some((runner, mut steps)) = self.racers[rank] else {
+                break;
+            };
+            let kept = Champion::of(self.seed, &self.best);
+            // The kept plan's replay, should the runner-up not beat it,
+            // and the last stage of either.
+            let limit = settings.max_evaluations
+                - kept.count
+                - keep_back(settings, kept.count.max(runner.count));
+            if self.evaluations + runner.count + MIN_GO_ON > limit {
+                return;
+            }
+            self.replay(planner, &runner, settings);
+            self.refit(planner, &mut steps, limit, settings);
+            if !better(
+                self.best.violation,
+                self.best.value,
+                kept.violation,
+                kept.value,
+            ) {
+                self.replay(planner, &kept, settings);
+            }
+        }
+    }
+
+    /// The best refitted again from the compass's first steps, while that
+    /// gains and the bound allows. Why: a settled compass's directions
+    /// have turned and its steps shrunk to the valley it settled in;
+    /// along the axes again at 5 % it often gains (the best only ever
+    /// improves, so the plan cannot get worse by it).
+    fn restart(&mut self, planner: &Planner, settings: &TemplateSettings) {
+        loop {
+            let limit = settings.max_evaluations - keep_back(settings, self.best.count);
+            if self.evaluations + MIN_GO_ON > limit {
+                return;
+            }
+            let before = (self.best.violation, self.best.value);
+            let mut steps = [Axes::default(); MAX_TEMPLATE_DIGS];
+            self.refit(planner, &mut steps, limit, settings);
+            if !better(self.best.violation, self.best.value, before.0, before.1) {
+                return;
+            }
+        }
     }
 }
+
+/// Evaluations the last stage keeps back for a plan of `digs` digs: the
+/// fallback's replay and retiming.
+fn keep_back(settings: &TemplateSettings, digs: usize) -> usize {
+    (1 + retiming(settings)) * digs
+}
+
+/// The least evaluations a runner-up's refit or a restart is worth
+/// starting for.
+const MIN_GO_ON: usize = 100;

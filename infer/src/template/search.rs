@@ -14,7 +14,7 @@ use crate::sequence::{Axes, DIG_VARS, DigVars, nearest, search_box};
 use crate::trench::{DesignProfile, TaskError, TrenchTask};
 
 impl Champion {
-    fn of(template: usize, p: &Played) -> Self {
+    pub(super) fn of(template: usize, p: &Played) -> Self {
         Champion {
             template,
             count: p.count,
