@@ -24,7 +24,9 @@
 //! H, the machine at x = 0. [`DigProblem::on_ground`] is the same dig on a
 //! given terrain and machine position (a trench as dug so far), and
 //! [`DigProblem::with_guard`] adds a trench planner's design guard as one
-//! more constraint (the problem the planner's digs are held to).
+//! more constraint (the problem the planner's digs are held to), and
+//! [`DigProblem::with_volume_cap`] one more (no more material than a
+//! planned dig took: the same fill).
 //!
 //! Objectives: [`DigObjective::Weighted`] is λ1 T_t + λ2 E_e + λ3 V_v
 //! (PSO, GWO); [`DigObjective::Pareto`] is (T \[s\], W_E \[Wh\], −V \[10⁻³ m³\])
@@ -109,6 +111,8 @@ pub struct DigProblem {
     pub objective: DigObjective,
     /// The cut below a trench's design profile is a constraint too.
     guard: Option<DesignGuard>,
+    /// At most this volume \[m³\] is dug (a constraint).
+    volume_cap: Option<f64>,
     /// Under the Pareto objective, the evaluated point with the best
     /// weighted objective by Deb's rules (f holds that objective): the
     /// member of the archive of every non-dominated point evaluated that a
@@ -191,6 +195,7 @@ impl DigProblem {
             hi,
             objective,
             guard: None,
+            volume_cap: None,
             best_weighted: None,
         })
     }
@@ -201,6 +206,20 @@ impl DigProblem {
     pub fn with_guard(mut self, guard: DesignGuard) -> Self {
         self.guard = Some(guard);
         self
+    }
+
+    /// The same dig, its volume held to at most `cap` \[m³\]: a dig of a
+    /// trench compared at the fill it took (a volume beyond the cap counts
+    /// as a violation, normalised by the volume range as the model's own).
+    pub fn with_volume_cap(mut self, cap: f64) -> Result<Self, Error> {
+        let [v_min, v_max] = self.cfg.objective.volume;
+        if !(v_min..=v_max).contains(&cap) {
+            return Err(Error::BadProblem(format!(
+                "a volume cap of {cap} m³ lies outside the volume range [{v_min}, {v_max}] m³"
+            )));
+        }
+        self.volume_cap = Some(cap);
+        Ok(self)
     }
 
     /// Y = [a16, a26, a36, T] from the optimiser's variables [b1, b2, b3,
@@ -244,14 +263,21 @@ impl DigProblem {
             base_x: self.base_x,
         };
         let guard = self.guard.as_ref();
-        Ok(assess(
+        let mut a = assess(
             &self.cfg,
             &self.task,
             params,
             ground,
             &mut self.scratch,
             guard,
-        )?)
+        )?;
+        if let Some(cap) = self.volume_cap {
+            let [v_min, v_max] = self.cfg.objective.volume;
+            let excess = (a.report.volume - cap).max(0.0) / (v_max - v_min);
+            a.violation += excess;
+            a.feasible &= excess == 0.0;
+        }
+        Ok(a)
     }
 
     /// The weighted objective and violation of a point (errors count as infeasible).
@@ -330,7 +356,9 @@ impl Problem for DigProblem {
     ) -> Option<f64> {
         // An evaluation error scores EVAL_ERROR_VIOLATION, which a stopped
         // evaluation might have reached: stop only for references better.
+        // Nor under a volume cap, which only the whole walk's volume shows.
         let usable = self.objective == DigObjective::Weighted
+            && self.volume_cap.is_none()
             && reference.violation < EVAL_ERROR_VIOLATION
             && reference.f[0].is_finite();
         if !usable {
@@ -388,12 +416,13 @@ pub struct DigSolution {
     pub wall_time_s: f64,
     /// Size of the final front (NSGA-II), 1 otherwise.
     pub front_size: usize,
-    /// The cut stays within the problem's design guard (true without one).
+    /// The cut stays within the problem's design guard and its volume
+    /// within its cap (true without them).
     pub within_guard: bool,
 }
 
 impl DigSolution {
-    /// Every constraint holds, the design guard's included.
+    /// Every constraint holds, the design guard's and the cap's included.
     pub fn feasible(&self) -> bool {
         self.within_guard && self.report.is_some_and(|r| r.feasible)
     }
@@ -476,6 +505,9 @@ pub fn solve_problem(
     let assessed = problem.assess(&params).ok();
     let within_guard = match (&problem.guard, &assessed) {
         (Some(g), Some(a)) => g.violation(&a.over_dig) == 0.0,
+        _ => true,
+    } && match (problem.volume_cap, &assessed) {
+        (Some(cap), Some(a)) => a.report.volume <= cap,
         _ => true,
     };
     Ok(DigSolution {

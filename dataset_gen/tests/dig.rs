@@ -141,6 +141,38 @@ fn a_guarded_dig_stays_within_the_design() {
 }
 
 #[test]
+fn a_volume_cap_holds_the_answer_to_the_fill_it_names() {
+    let (cfg, q) = example();
+    let bounds = DigBounds::default();
+    let plain = DigProblem::new(&cfg, &q, &bounds, DigObjective::Weighted).unwrap();
+    let alg = AnyAlgorithm::by_name("pso", 30).unwrap();
+    let solved = |mut p: DigProblem| {
+        let s = solve_problem(&mut p, &alg, Budget::iterations(30), &mut rng_from_seed(5));
+        s.unwrap()
+    };
+    let free = solved(plain.clone());
+    let v = free.report.unwrap().volume;
+    // A cap a fifth of the way down from the free answer's fill.
+    let [v_min, v_max] = cfg.objective.volume;
+    let cap = v - 0.2 * (v - v_min);
+    let capped = solved(plain.clone().with_volume_cap(cap).unwrap());
+    let r = capped.report.unwrap();
+    assert!(capped.feasible(), "PSO finds a dig within the cap");
+    assert!(r.volume <= cap, "{} m³ above the cap {cap} m³", r.volume);
+    assert!(r.volume < v, "the cap binds: {} against {v} m³", r.volume);
+    // The cap is a constraint: the objective of a point is as before.
+    let x = DigProblem::from_params(&free.params());
+    let mut over = plain.clone().with_volume_cap(cap).unwrap();
+    let (f_free, v_free) = plain.clone().weighted(&x);
+    let (f_over, v_over) = over.weighted(&x);
+    assert_eq!(f_free, f_over);
+    assert!(v_over > v_free, "the free answer breaks the cap");
+    for bad in [v_min * 0.5, v_max * 1.5, f64::NAN] {
+        assert!(plain.clone().with_volume_cap(bad).is_err(), "cap {bad}");
+    }
+}
+
+#[test]
 fn failed_evaluation_is_infeasible_not_a_panic() {
     let (cfg, q) = example();
     let mut p = DigProblem::new(&cfg, &q, &DigBounds::default(), DigObjective::Pareto).unwrap();

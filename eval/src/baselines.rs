@@ -33,6 +33,11 @@ pub struct Baseline {
     /// The dig's cut below the design is held to the planner's guard.
     #[serde(default)]
     pub guarded: bool,
+    /// The dig's volume is held to at most the planned dig's too (with the
+    /// guard): a trench's digs share its material, so this compares pace
+    /// and energy at the fill the plan gave the dig.
+    #[serde(default)]
+    pub same_fill: bool,
 }
 
 impl Baseline {
@@ -45,11 +50,13 @@ impl Baseline {
                 algorithm: AnyAlgorithm::Gwo(Gwo::default()),
                 iterations: 100,
                 guarded: false,
+                same_fill: false,
             },
             Baseline {
                 algorithm: AnyAlgorithm::Nsga2(Nsga2::default()),
                 iterations: 100,
                 guarded: false,
+                same_fill: false,
             },
         ]
     }
@@ -60,6 +67,7 @@ impl Baseline {
             algorithm: AnyAlgorithm::Pso(Pso::default()),
             iterations: 100,
             guarded: false,
+            same_fill: false,
         }
     }
 
@@ -67,6 +75,15 @@ impl Baseline {
     pub fn guarded(self) -> Baseline {
         Baseline {
             guarded: true,
+            ..self
+        }
+    }
+
+    /// The same optimiser held to the guard and to each planned dig's volume.
+    pub fn same_fill(self) -> Baseline {
+        Baseline {
+            guarded: true,
+            same_fill: true,
             ..self
         }
     }
@@ -83,12 +100,14 @@ impl Baseline {
             algorithm,
             iterations,
             guarded: false,
+            same_fill: false,
         })
     }
 
     /// The method's key in reports: pso, gwo, nsga2, or pso-guarded etc.
     pub fn name(&self) -> &'static str {
         match (self.algorithm.name(), self.guarded) {
+            ("pso", true) if self.same_fill => "pso-same-fill",
             ("pso", true) => "pso-guarded",
             ("gwo", true) => "gwo-guarded",
             ("nsga2", true) => "nsga2-guarded",
@@ -119,6 +138,7 @@ pub fn method_label(name: &str) -> &str {
         "gwo" => "GWO",
         "nsga2" => "NSGA-II",
         "pso-guarded" => "PSO (guarded)",
+        "pso-same-fill" => "PSO (guarded, same fill)",
         "gwo-guarded" => "GWO (guarded)",
         "nsga2-guarded" => "NSGA-II (guarded)",
         other => other,
@@ -229,6 +249,13 @@ pub fn solve_again(
             p.with_guard(*guard)
         } else {
             p
+        }
+    })
+    .and_then(|p| {
+        if baseline.same_fill {
+            p.with_volume_cap(dig.report.volume)
+        } else {
+            Ok(p)
         }
     })
     .and_then(|mut problem| {

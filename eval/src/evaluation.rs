@@ -174,6 +174,7 @@ impl EvalSettings {
         }
         let unguarded = |b: &Baseline| Baseline {
             guarded: false,
+            same_fill: false,
             ..b.clone()
         };
         if self

@@ -83,6 +83,9 @@ pub struct SeedTotals {
     pub least: PlannerTotals,
     /// Its digs' mean objective over guarded PSO's.
     pub pso_ratio: Option<f64>,
+    /// The same, PSO held to each dig's own volume too.
+    #[serde(default)]
+    pub same_fill_ratio: Option<f64>,
 }
 
 /// The comparison.
@@ -155,10 +158,9 @@ pub fn compare(
         .flat_map(|(_, plans)| plans.iter().map(|(_, p)| p.digs.len()))
         .sum();
     bar.inc_length(digs as u64);
-    let guarded = Baseline::pso().guarded();
     let pso = finished
         .iter()
-        .map(|(name, plans)| against_pso(planner, name, plans, &guarded, bar))
+        .map(|(name, plans)| against_pso(planner, name, plans, &Baseline::pso(), bar))
         .collect::<Result<Vec<_>, _>>()?;
     if !compared.templates.is_empty() {
         let name = format!("templates ({})", bound_label(settings));
@@ -195,9 +197,11 @@ pub fn compare(
         .iter()
         .filter_map(|file| {
             let refit = learned_name(file.seed, "refit", settings);
+            let against = pso.iter().find(|p| p.planner == refit);
             Some(SeedTotals {
                 seed: file.seed,
-                pso_ratio: pso.iter().find(|p| p.planner == refit).map(|p| p.ratio),
+                pso_ratio: against.map(|p| p.guarded.ratio),
+                same_fill_ratio: against.map(|p| p.same_fill.ratio),
                 refit: of(refit)?,
                 alone: of(learned_name(file.seed, "network's seeds alone", settings)),
                 least: of(learned_name(file.seed, "least refit", &least))?,
@@ -465,6 +469,7 @@ mod tests {
             alone: None,
             least: t,
             pso_ratio: Some(1.5),
+            same_fill_ratio: Some(1.2),
         };
         let report = LearnedReport {
             command: "test".into(),
