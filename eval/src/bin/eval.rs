@@ -106,7 +106,7 @@ impl EvalArgs {
 enum Command {
     /// Generate a small dataset, train both networks per training seed, plan
     /// tasks A–D and random tasks with them and compare with the optimisers
-    /// (about 18 min on 2 cores).
+    /// (about 17 min on 2 cores).
     Pipeline {
         /// Use the shipped networks in --networks instead of training (under a minute).
         #[arg(long)]
@@ -120,12 +120,13 @@ enum Command {
         /// Report folder [default: artifacts/eval, or runs/eval-quick with --quick].
         #[arg(long)]
         report: Option<PathBuf>,
-        /// PSO-optimised digs per dig type in the dataset.
-        #[arg(long, default_value_t = 1000)]
-        per_type: u64,
-        /// Training budget per dig type [s]; the two types train at the same time.
-        #[arg(long, default_value_t = 240.0)]
-        train_seconds: f64,
+        /// PSO-optimised digs per dig type in the dataset [default: 2000].
+        #[arg(long)]
+        per_type: Option<u64>,
+        /// Training budget per dig type [s]; the two types train at the same
+        /// time [default: 360].
+        #[arg(long)]
+        train_seconds: Option<f64>,
         /// Training seeds: a network pair per seed, the first evaluated in
         /// full, every one for the learned figures (median and spread).
         #[arg(long, value_delimiter = ',', default_value = "1,2,3")]
@@ -260,6 +261,8 @@ fn run(cli: Cli) -> Result<(), EvalError> {
             } else {
                 PipelineSettings::full(out)
             };
+            let per_type = per_type.unwrap_or(s.per_type);
+            let train_seconds = train_seconds.unwrap_or(s.train_seconds);
             if per_type == 0 {
                 return Err(EvalError::BadArgument(
                     "--per-type must be at least 1".into(),
