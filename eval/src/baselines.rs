@@ -277,13 +277,25 @@ pub fn solve_again(
     };
     let mut scratch = CarveBuffer::default();
     match assess(cfg, &task, &sol.params(), ground, &mut scratch, Some(guard)) {
-        Ok(a) => DigFigures::from_report(
-            &sol.params(),
-            &a.report,
-            a.over_dig.max_depth * 1e3,
-            guard.violation(&a.over_dig) == 0.0,
-            seconds,
-        ),
+        Ok(a) => {
+            let mut f = DigFigures::from_report(
+                &sol.params(),
+                &a.report,
+                a.over_dig.max_depth * 1e3,
+                guard.violation(&a.over_dig) == 0.0,
+                seconds,
+            );
+            // Held to the planned dig's volume, an answer above it is not one.
+            if baseline.same_fill && a.report.volume > dig.report.volume {
+                f.feasible = false;
+                f.note = Some(format!(
+                    "volume {:.0} cm³ above the planned dig's {:.0} cm³",
+                    a.report.volume * 1e6,
+                    dig.report.volume * 1e6
+                ));
+            }
+            f
+        }
         Err(e) => DigFigures::failed(
             sol.y,
             format!("the exact model could not evaluate the optimiser's answer: {e}"),
