@@ -160,8 +160,7 @@ pub fn against_pso(
             let seed = dig_seed(SEED, task, *d, 0);
             let r = &step.dig.report;
             let own = Scored::new(cfg, r.objective, r.duration, r.energy, r.volume);
-            bar.inc(1);
-            baselines.each_ref().map(|baseline| {
+            let both = baselines.each_ref().map(|baseline| {
                 let f = solve_again(cfg, step, &guard, baseline, seed);
                 let found = (f.feasible && f.within_design).then(|| {
                     Scored::new(
@@ -173,7 +172,9 @@ pub fn against_pso(
                     )
                 });
                 (own, found)
-            })
+            });
+            bar.inc(1);
+            both
         })
         .collect();
     let versus = |k: usize| Versus::of(&pairs.iter().map(|p| p[k]).collect::<Vec<_>>());
