@@ -8,7 +8,7 @@ use crate::digs::{DigRow, compare_digs};
 use crate::error::EvalError;
 use crate::networks::Networks;
 use crate::planning::{PlanRun, run_plan};
-use crate::seeds::SeedFigures;
+use crate::seeds::{HeldOut, SeedFigures};
 use crate::summary::{Summary, summarise};
 use crate::tasks::{NamedTask, RandomRanges, task_set};
 use crate::whole::{
@@ -220,6 +220,9 @@ pub struct EvalReport {
     /// pipeline's; empty for one pair of networks evaluated alone).
     #[serde(default)]
     pub training_seeds: Vec<SeedFigures>,
+    /// The dataset every seed's networks were also scored on, if any.
+    #[serde(default)]
+    pub held_out: Option<HeldOut>,
     pub elapsed_s: f64,
     /// The plans, per task (written as separate files).
     #[serde(skip)]
@@ -406,6 +409,7 @@ pub fn evaluate(
         whole,
         summary,
         training_seeds: Vec::new(),
+        held_out: None,
         elapsed_s: clock.elapsed().as_secs_f64(),
         plans,
     })

@@ -9,7 +9,7 @@ use crate::baselines::Baseline;
 use crate::error::EvalError;
 use crate::evaluation::{Coverage, EvalReport, EvalSettings, evaluate};
 use crate::networks::Networks;
-use crate::seeds::SeedFigures;
+use crate::seeds::{HeldOut, SeedFigures};
 use dataset_gen::algorithms::{AnyAlgorithm, Pso};
 use dataset_gen::batch::{self, GenConfig, RunOptions};
 use dataset_gen::jobs::FolderLock;
@@ -32,6 +32,11 @@ pub struct PipelineSettings {
     pub shipped: Option<PathBuf>,
     /// PSO-optimised digs per dig type in the dataset.
     pub per_type: u64,
+    /// A dataset of another seed that scores every training seed's
+    /// networks on the same digs (`held-out-<n>-seed<s>/`): each seed's own
+    /// test split is a different draw, and its figure moves with it.
+    #[serde(default)]
+    pub held_out: Option<HeldOut>,
     /// Training wall-clock budget per dig type \[s\] (both types train at once).
     pub train_seconds: f64,
     /// Seeds the dataset and the evaluation.
@@ -47,7 +52,8 @@ impl PipelineSettings {
     /// cores), three training seeds of 2,000 epochs per type (the two at
     /// once, about 3.5 minutes a seed; the 360 s budget only stops a slow
     /// machine), the full evaluation (about 4 minutes) and the other
-    /// seeds' learned figures (seconds): about 17 minutes in all. Why
+    /// seeds' learned figures (seconds), and a held-out dataset of 600
+    /// digs per type (about 40 s): about 17 minutes in all. Why
     /// 2,000 and not 1,000: every seed's backward network reaches the
     /// 97 % goal and the seeds spread less (`experiments.md`, 2026-12-06).
     pub fn full(out: PathBuf) -> Self {
@@ -55,6 +61,10 @@ impl PipelineSettings {
             out,
             shipped: None,
             per_type: 2000,
+            held_out: Some(HeldOut {
+                per_type: 600,
+                seed: 1001,
+            }),
             train_seconds: 360.0,
             seed: 1,
             training_seeds: vec![1, 2, 3],
@@ -85,6 +95,18 @@ pub struct TrainedNetwork {
     /// Test split, exact model, no repair.
     pub feasible_before_repair: f64,
     /// Optimiser mean objective / network mean objective on the test split.
+    pub relative_performance: f64,
+    /// The same two figures on the held-out dataset, if one was made.
+    #[serde(default)]
+    pub held_out: Option<HeldOutScore>,
+}
+
+/// A network scored on the held-out dataset's feasible digs (exact model,
+/// no repair).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct HeldOutScore {
+    pub samples: usize,
+    pub feasible_before_repair: f64,
     pub relative_performance: f64,
 }
 
@@ -140,22 +162,44 @@ fn run_full(
             "at least one training seed is needed".into(),
         ));
     };
+    if let Some(h) = settings
+        .held_out
+        .as_ref()
+        .filter(|h| h.seed == settings.seed)
+    {
+        return Err(EvalError::BadArgument(format!(
+            "the held-out dataset's seed ({}) must differ from the training dataset's",
+            h.seed
+        )));
+    }
     let mut steps = Vec::new();
     eprintln!(
         "dataset: {} PSO-optimised digs per dig type …",
         settings.per_type
     );
     let clock = Instant::now();
-    let summary = make_dataset(settings, progress)?;
+    let dir = dataset_dir(settings);
+    let summary = make_dataset(settings.per_type, settings.seed, &dir, progress)?;
     steps.push(("dataset".to_string(), clock.elapsed().as_secs_f64()));
-    eprintln!(
-        "dataset: {} digs ({} reused) in {:.0} s ({:.1} /s) → {}",
-        summary.computed + summary.skipped,
-        summary.skipped,
-        clock.elapsed().as_secs_f64(),
-        summary.samples_per_s,
-        dataset_dir(settings).display()
-    );
+    report_dataset(&summary, clock, &dir);
+    let held_out = match &settings.held_out {
+        Some(h) => {
+            eprintln!(
+                "held-out dataset: {} PSO-optimised digs per dig type, seed {} …",
+                h.per_type, h.seed
+            );
+            let clock = Instant::now();
+            let dir = held_out_dir(settings, h);
+            let held = make_dataset(h.per_type, h.seed, &dir, progress)?;
+            steps.push((
+                "held-out dataset".to_string(),
+                clock.elapsed().as_secs_f64(),
+            ));
+            report_dataset(&held, clock, &dir);
+            Some(dir)
+        }
+        None => None,
+    };
 
     let clock = Instant::now();
     let mut networks = Vec::new();
@@ -164,7 +208,10 @@ fn run_full(
             "training seed {seed}: both networks (at most {:.0} s each, side by side) …",
             settings.train_seconds
         );
-        let trained = train_both(settings, seed, progress)?;
+        let mut trained = train_both(settings, seed, progress)?;
+        if let Some(dir) = &held_out {
+            score_held_out(&mut trained, &networks_dir(settings, seed), dir)?;
+        }
         for t in &trained {
             let resumed = t
                 .resumed_from
@@ -179,6 +226,14 @@ fn run_full(
                 100.0 * t.feasible_before_repair,
                 100.0 * t.relative_performance
             );
+            if let Some(h) = &t.held_out {
+                eprintln!(
+                    "    held out ({} digs): {:.1} % feasible before repair, relative performance {:.1} %",
+                    h.samples,
+                    100.0 * h.feasible_before_repair,
+                    100.0 * h.relative_performance
+                );
+            }
         }
         networks.push((seed, trained));
     }
@@ -207,6 +262,7 @@ fn run_full(
         steps.push(("other seeds".to_string(), clock.elapsed().as_secs_f64()));
     }
     report.training_seeds = seeds;
+    report.held_out = settings.held_out.clone();
     Ok(PipelineOutcome {
         settings: settings.clone(),
         dataset: Some(summary),
@@ -264,22 +320,58 @@ pub fn dataset_dir(settings: &PipelineSettings) -> PathBuf {
     ))
 }
 
-/// The dataset, resumable: parts already in `out/dataset` are kept.
-fn make_dataset(settings: &PipelineSettings, progress: bool) -> Result<batch::Summary, EvalError> {
-    let gen_cfg = GenConfig::new(
-        AnyAlgorithm::Pso(Pso::default()),
-        settings.per_type,
-        settings.seed,
-    );
-    let dir = dataset_dir(settings);
+/// Where the held-out dataset `h` lives.
+fn held_out_dir(settings: &PipelineSettings, h: &HeldOut) -> PathBuf {
+    settings
+        .out
+        .join(format!("held-out-{}-seed{}", h.per_type, h.seed))
+}
+
+/// A PSO dataset in `dir`, resumable: parts already there are kept.
+fn make_dataset(
+    per_type: u64,
+    seed: u64,
+    dir: &Path,
+    progress: bool,
+) -> Result<batch::Summary, EvalError> {
+    let gen_cfg = GenConfig::new(AnyAlgorithm::Pso(Pso::default()), per_type, seed);
     let opts = RunOptions {
         progress,
         ..RunOptions::default()
     };
-    let mut summary = batch::run(&gen_cfg, &dir, &opts)?;
-    let merged = batch::merge(std::slice::from_ref(&dir), &dir.join("dataset.mcap"))?;
+    let mut summary = batch::run(&gen_cfg, dir, &opts)?;
+    let merged = batch::merge(&[dir.to_path_buf()], &dir.join("dataset.mcap"))?;
     summary.per_type = merged.per_type;
     Ok(summary)
+}
+
+fn report_dataset(summary: &batch::Summary, clock: Instant, dir: &Path) {
+    eprintln!(
+        "  {} digs ({} reused) in {:.0} s ({:.1} /s) → {}",
+        summary.computed + summary.skipped,
+        summary.skipped,
+        clock.elapsed().as_secs_f64(),
+        summary.samples_per_s,
+        dir.display()
+    );
+}
+
+/// Scores each of `trained`'s exported networks (in `networks`) on the
+/// held-out dataset in `dir`.
+fn score_held_out(
+    trained: &mut [TrainedNetwork],
+    networks: &Path,
+    dir: &Path,
+) -> Result<(), EvalError> {
+    for t in trained {
+        let e = job::evaluate_exported(networks, dir, t.kind)?;
+        t.held_out = Some(HeldOutScore {
+            samples: e.samples,
+            feasible_before_repair: e.feasible_fraction,
+            relative_performance: e.relative_performance,
+        });
+    }
+    Ok(())
 }
 
 /// Trains both dig types at once (one thread each) with a shared
@@ -335,6 +427,7 @@ fn train_both(
                         seconds: r.model.seconds,
                         feasible_before_repair: r.model.test.feasible_fraction,
                         relative_performance: r.model.test.relative_performance,
+                        held_out: None,
                     })
                 })
             })

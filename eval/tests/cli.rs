@@ -25,6 +25,8 @@ fn bad_input_exits_with_2() {
         &["pipeline", "--per-type", "0"],
         &["pipeline", "--train-seconds", "-1"],
         &["pipeline", "--training-seeds", "1,1"],
+        &["pipeline", "--held-out-seed", "1"],
+        &["pipeline", "--seed", "5", "--held-out-seed", "5"],
     ] {
         let out = eval().args(args).output().unwrap();
         assert_eq!(out.status.code(), Some(2), "{args:?}");

@@ -389,6 +389,58 @@ fn bad_input_is_a_typed_error() {
     assert!(tasks::random_tasks(&p, 1, 1, &impossible).is_err());
 }
 
+/// The full pipeline in miniature: every seed's networks are scored on the
+/// same held-out dataset, which is made once and kept for a rerun.
+#[test]
+fn full_pipeline_scores_every_seed_on_one_held_out_dataset() {
+    use eval::pipeline::{self, PipelineSettings};
+    use eval::seeds::HeldOut;
+    let mut s = PipelineSettings::full(temp_dir("pipeline-full"));
+    s.per_type = 30;
+    s.held_out = Some(HeldOut {
+        per_type: 10,
+        seed: 2,
+    });
+    s.train_seconds = 2.0;
+    s.training_seeds = vec![1, 2];
+    s.eval = EvalSettings {
+        random_tasks: 0,
+        dig_by_dig: Coverage::Skip,
+        whole_task: Coverage::Skip,
+        ..EvalSettings::quick()
+    };
+    let o = pipeline::run(&s, false).unwrap();
+    let steps: Vec<&str> = o.steps.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(steps[..3], ["dataset", "held-out dataset", "training"]);
+    let scored: Vec<usize> = o
+        .networks
+        .iter()
+        .flat_map(|(_, nets)| nets.iter().map(|n| n.held_out.as_ref().unwrap().samples))
+        .collect();
+    assert_eq!(scored.len(), 4, "two seeds, two types");
+    assert!(scored.iter().all(|&n| n > 0 && n <= 10), "{scored:?}");
+    // The same digs for every seed: the counts agree per type.
+    assert_eq!(scored[..2], scored[2..]);
+    for f in &o.report.training_seeds {
+        assert!(
+            f.held_out_relative
+                .iter()
+                .all(|r| r.is_some_and(|r| r > 0.0))
+        );
+    }
+    assert_eq!(o.report.held_out, s.held_out);
+    let _ = std::fs::remove_dir_all(&s.out);
+
+    s.held_out.as_mut().unwrap().seed = s.seed;
+    let err = pipeline::run(&s, false).unwrap_err().to_string();
+    assert!(err.contains("must differ"), "{err}");
+    assert!(
+        !pipeline::dataset_dir(&s).exists(),
+        "refused before any work"
+    );
+    let _ = std::fs::remove_dir_all(&s.out);
+}
+
 /// The quick pipeline evaluates the shipped networks and makes nothing else.
 #[test]
 fn quick_pipeline_uses_the_shipped_networks() {

@@ -6,6 +6,7 @@ use eval::baselines::Baseline;
 use eval::evaluation::{Coverage, EvalSettings, evaluate};
 use eval::networks::Networks;
 use eval::pipeline::{self, PipelineSettings};
+use eval::seeds::HeldOut;
 use eval::whole::TemplatePlanning;
 use eval::{EvalError, benchmarks, output, tables};
 use infer::template::TemplateSettings;
@@ -123,6 +124,13 @@ enum Command {
         /// PSO-optimised digs per dig type in the dataset [default: 2000].
         #[arg(long)]
         per_type: Option<u64>,
+        /// Digs per dig type of the held-out dataset every seed's networks
+        /// are scored on; 0 makes none [default: 600].
+        #[arg(long)]
+        held_out: Option<u64>,
+        /// Seed of the held-out dataset; not the dataset's (--seed) [default: 1001].
+        #[arg(long)]
+        held_out_seed: Option<u64>,
         /// Training budget per dig type [s]; the two types train at the same
         /// time [default: 360].
         #[arg(long)]
@@ -252,6 +260,8 @@ fn run(cli: Cli) -> Result<(), EvalError> {
             out,
             report,
             per_type,
+            held_out,
+            held_out_seed,
             train_seconds,
             training_seeds,
             eval,
@@ -281,6 +291,21 @@ fn run(cli: Cli) -> Result<(), EvalError> {
                     "--training-seeds must list one or more distinct seeds".into(),
                 ));
             }
+            let default_held_out = s.held_out.clone().unwrap_or(HeldOut {
+                per_type: 0,
+                seed: 0,
+            });
+            let held_out = HeldOut {
+                per_type: held_out.unwrap_or(default_held_out.per_type),
+                seed: held_out_seed.unwrap_or(default_held_out.seed),
+            };
+            if !quick && held_out.per_type > 0 && held_out.seed == eval.seed {
+                return Err(EvalError::BadArgument(format!(
+                    "--held-out-seed ({}) must differ from the dataset's --seed",
+                    held_out.seed
+                )));
+            }
+            s.held_out = (held_out.per_type > 0).then_some(held_out);
             s.per_type = per_type;
             s.train_seconds = train_seconds;
             s.training_seeds = training_seeds;

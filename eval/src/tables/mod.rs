@@ -158,8 +158,14 @@ fn seeds_section(report: &EvalReport) -> String {
         .iter()
         .map(|s| s.seed.to_string())
         .collect();
+    let held_out = report.held_out.as_ref().map_or(String::new(), |h| {
+        format!(
+            " Each seed's test split is its own draw of the dataset; the common held-out dataset ({} PSO-optimised digs per type generated with seed {}, its feasible digs) scores every seed's networks on the same digs.",
+            h.per_type, h.seed
+        )
+    });
     format!(
-        "## Learned figures over {} training seeds\n\nThe goals above are the first seed's networks. Networks trained on the same dataset with seeds {}, each pair planning the same tasks, every planned dig solved again by PSO (plain and held to the design guard); a goal is met when every seed meets it. These figures also move with the CPU (other floating-point reductions train other networks).\n\n{}",
+        "## Learned figures over {} training seeds\n\nThe goals above are the first seed's networks. Networks trained on the same dataset with seeds {}, each pair planning the same tasks, every planned dig solved again by PSO (plain and held to the design guard); a goal is met when every seed meets it.{held_out} These figures also move with the CPU (other floating-point reductions train other networks).\n\n{}",
         seeds.len(),
         seeds.join(", "),
         crate::seeds::markdown(&report.training_seeds)
