@@ -155,8 +155,11 @@ impl TrainConfig {
                 },
                 physics: true,
                 time_samples: 65,
+                // Downward 0.015 over 0.02: on a held-out dataset 97.7–97.9 %
+                // relative against 96.6 % for three seeds, also on the
+                // feasible digs alone (`../eval/experiments.md`, 2026-12-06).
                 margin: match kind {
-                    DigType::Downward => 0.02,
+                    DigType::Downward => 0.015,
                     DigType::Backward => 0.01,
                 },
             },
