@@ -350,7 +350,9 @@ pub fn answer_alone(
                 Repaired {
                     params: y,
                     assessment: c.assessment,
-                    outcome: if c.stretched {
+                    outcome: if c.repaired {
+                        Outcome::Refined
+                    } else if c.stretched {
                         Outcome::Rescaled
                     } else {
                         Outcome::Predicted

@@ -254,7 +254,8 @@ pub fn measure(
         planner.config(),
         &planner.settings().ranges,
         EvalSettings::default().alone_tries,
-    )?;
+    )?
+    .with_repair(planner.settings().repair);
     let mut alone_times = Vec::new();
     let (mut alone_obj, mut alone_pso, mut alone_n) = (0.0, 0.0, 0usize);
     let steps = first
@@ -300,7 +301,7 @@ pub fn measure(
         alone_dig * 1e6,
         "µs",
         format!(
-            "median over {} repetitions of the same {digs} digs answered by the network alone on PSO's problem, as `eval compare` does (`SurfaceMatched`: up to {} predictions until the bucket fills, retimed, checked, repaired if need be; no design guard)",
+            "median over {} repetitions of the same {digs} digs answered by the network alone on PSO's problem, as `eval compare` does (`SurfaceMatched`: up to {} predictions until the bucket fills, retimed, checked, repaired if need be, a short answer traded for a fuller try repaired; no design guard)",
             settings.plan_repeats,
             EvalSettings::default().alone_tries
         ),

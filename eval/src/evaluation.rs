@@ -293,7 +293,8 @@ pub fn evaluate(
             planner.config(),
             &settings.planner.ranges,
             settings.alone_tries,
-        )?,
+        )?
+        .with_repair(planner.settings().repair),
         &settings.baselines,
         settings.seed,
         &bar,

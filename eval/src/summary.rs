@@ -369,7 +369,7 @@ pub fn summarise(
         });
         if let Some(a) = alone.against.iter().find(|a| a.method == "pso") {
             goals.push(Goal {
-                what: format!("the network alone on PSO's problem (up to {} predictions with H moved until the bucket fills, retimed, exact check, repair; no design guard): mean dig objective relative to PSO's (digs where both are feasible)", alone.tries),
+                what: format!("the network alone on PSO's problem (up to {} predictions with H moved until the bucket fills, retimed, exact check, repair, a short answer traded for a fuller try repaired; no design guard): mean dig objective relative to PSO's (digs where both are feasible)", alone.tries),
                 target: "≤ 1.02".into(),
                 measured: format!(
                     "{:.4} ({:.4} vs {:.4} over {} digs; {} of {} answers feasible)",

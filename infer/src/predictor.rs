@@ -10,7 +10,7 @@ use crate::error::Error;
 use crate::kinematics::forward;
 use crate::network::Network;
 use crate::query::{DigQuery, QueryRanges};
-use crate::repair::{Assessment, RepairSettings, assess, refine};
+use crate::repair::{Assessment, RepairSettings, assess, refine, repair};
 use crate::retime::{Recorded, RetimeWork, check, record_fastest};
 use crate::terrain::{CarveBuffer, Terrain};
 use crate::trajectory::DigParams;
@@ -158,7 +158,11 @@ impl DigPredictor for RefinePredictor {
 /// is the answer as it was evaluated or, if its record found a better
 /// slower stretch, that stretch once the exact model confirms it;
 /// [`SurfaceMatched::last_checked`] has the answer's exact evaluation, so
-/// a caller need not evaluate it again.
+/// a caller need not evaluate it again. With [`SurfaceMatched::with_repair`],
+/// an answer short of the bucket is traded for a fuller try that broke a
+/// limit, once repair makes that one feasible at a lower objective: near
+/// the lowest H the network knows, the deeper tries fill the bucket but
+/// break a limit, and the feasible one leaves a third of it empty.
 #[derive(Clone)]
 pub struct SurfaceMatched<P> {
     inner: P,
@@ -169,6 +173,8 @@ pub struct SurfaceMatched<P> {
     tries: usize,
     /// The range of H the network was trained on \[m\]: H stays inside it.
     surface: [f64; 2],
+    /// Repairs a fuller try when the best feasible one is short (`None`: never).
+    repair: Option<RepairSettings>,
     last: Option<Checked>,
 }
 
@@ -187,6 +193,8 @@ pub struct Checked {
     /// power or duration (torque and power as the record predicts them),
     /// and the stretch met it.
     pub stretched: bool,
+    /// A fuller try that broke a limit, repaired ([`SurfaceMatched::with_repair`]).
+    pub repaired: bool,
 }
 
 impl<P> core::fmt::Debug for SurfaceMatched<P> {
@@ -245,8 +253,18 @@ impl<P> SurfaceMatched<P> {
             work: RetimeWork::default(),
             tries,
             surface: ranges.surface,
+            repair: None,
             last: None,
         })
+    }
+
+    /// Lets a prediction that falls short of the bucket repair (within
+    /// `settings`' budget) the try with the lowest objective among those
+    /// that broke a limit, and answer with it if it then beats the best
+    /// feasible try.
+    pub fn with_repair(mut self, settings: RepairSettings) -> Self {
+        self.repair = Some(settings);
+        self
     }
 
     /// The last answer as it was checked (`None` before the first, or if
@@ -277,6 +295,8 @@ impl<P: DigPredictor> DigPredictor for SurfaceMatched<P> {
         self.last = None;
         let mut first = None;
         let mut best: Option<(Recorded, (bool, f64))> = None;
+        // The try with the lowest objective among those that broke a limit.
+        let mut fuller: Option<(DigParams, f64)> = None;
         let mut previous: Option<(f64, f64)> = None;
         for _ in 0..self.tries {
             let y = self.inner.predict(&q, ground)?;
@@ -300,6 +320,10 @@ impl<P: DigPredictor> DigPredictor for SurfaceMatched<P> {
             };
             if best.is_none_or(|(_, k)| k < key) {
                 best = Some((r, key));
+            }
+            let o = r.assessment.report.objective;
+            if !key.0 && fuller.is_none_or(|(_, f)| o < f) {
+                fuller = Some((r.params, o));
             }
             let (h, v) = (q.surface, r.assessment.report.volume);
             if v >= MATCH_ENOUGH * v_max && v <= v_max {
@@ -328,6 +352,7 @@ impl<P: DigPredictor> DigPredictor for SurfaceMatched<P> {
             assessment: a,
             stretch: r.k,
             stretched: r.k != 1.0 && !r.original_feasible,
+            repaired: false,
         };
         if let Some(s) = r.further {
             let scratch = &mut self.scratch;
@@ -339,8 +364,33 @@ impl<P: DigPredictor> DigPredictor for SurfaceMatched<P> {
                     assessment: b,
                     stretch: r.k * s.k,
                     stretched: !r.original_feasible,
+                    repaired: false,
                 };
             }
+        }
+        let b = &checked.assessment;
+        let short = b.feasible && b.report.volume < MATCH_ENOUGH * v_max;
+        if let (true, Some(settings), Some((y, o))) = (short, &self.repair, fuller)
+            && o < b.report.objective
+            && let Ok(f) = repair(
+                &self.cfg,
+                &task,
+                &y,
+                ground,
+                &mut self.scratch,
+                None,
+                settings,
+            )
+            && f.assessment.feasible
+            && f.assessment.report.objective < b.report.objective
+        {
+            checked = Checked {
+                params: f.params,
+                assessment: f.assessment,
+                stretch: 1.0,
+                stretched: false,
+                repaired: true,
+            };
         }
         self.last = Some(checked);
         Ok(checked.params)

@@ -591,6 +591,76 @@ fn an_evaluation_bound_holds_for_every_dig() {
     }
 }
 
+/// With repair, a matched answer short of the bucket may be traded for a
+/// fuller try that broke a limit, repaired: never a worse or infeasible
+/// answer than matching alone, the kept check the answer's own, and no
+/// allocation. On the planner's digs of these trenches it trades at least
+/// once, for a lower objective.
+#[test]
+fn surface_matching_with_repair_never_answers_worse() {
+    let pair = shipped_pair();
+    let cfg = Config::default();
+    let planner = Planner::new(&cfg, &PlannerSettings::default()).unwrap();
+    let ranges = infer::QueryRanges::default();
+    let mut alone = infer::SurfaceMatched::new(pair, &cfg, &ranges, 4).unwrap();
+    let mut mended = alone.clone().with_repair(RepairSettings::default());
+    let mut scratch = CarveBuffer::default();
+    let (mut traded, mut digs) = (0, 0);
+    // Deep trenches of eval's random tasks (seed 1: R04, R12, R17).
+    let deep = [
+        (0.5064, 0.1772, 42.106, 61.691, 1.0128),
+        (0.7022, 0.1788, 44.694, 48.978, 1.0044),
+        (0.4524, 0.1867, 61.475, 44.063, 1.0161),
+    ];
+    let tasks = ['A', 'B', 'C', 'D']
+        .map(|c| TrenchTask::reference(c).unwrap())
+        .into_iter()
+        .chain(deep.map(|(l, d, far, near, edge)| TrenchTask {
+            far_edge: edge,
+            ..TrenchTask::new_deg(l, d, far, near)
+        }));
+    for task in tasks {
+        let mut state = planner.start(&task).unwrap();
+        let mut planning = pair;
+        for _ in 0..6 {
+            let terrain = state.terrain().clone();
+            let Ok(Some(dig)) = planner.next_dig(&mut state, &mut planning) else {
+                break;
+            };
+            let ground = Ground {
+                terrain: &terrain,
+                base_x: dig.base_x,
+            };
+            let task = dig.query.task();
+            let y0 = alone.predict(&dig.query, ground).unwrap();
+            let a0 = assess(&cfg, &task, &y0, ground, &mut scratch, None).unwrap();
+            let before = allocations();
+            let y = mended.predict(&dig.query, ground).unwrap();
+            assert_eq!(allocations(), before, "repairing allocated");
+            let a = assess(&cfg, &task, &y, ground, &mut scratch, None).unwrap();
+            let c = mended.last_checked().expect("checked");
+            assert_eq!(c.params, y);
+            assert_eq!(c.assessment.report.objective, a.report.objective);
+            assert!(a.feasible || !a0.feasible, "feasible before, not after");
+            if a0.feasible {
+                assert!(a.report.objective <= a0.report.objective + 1e-12);
+            }
+            if c.repaired {
+                traded += 1;
+                assert!(a.feasible && a.report.objective < a0.report.objective);
+                assert!(a.report.volume > a0.report.volume, "the trade is for fill");
+            } else {
+                assert_eq!(y, y0);
+            }
+            digs += 1;
+        }
+    }
+    assert!(
+        traded >= 1,
+        "no short dig of {digs} traded on these trenches"
+    );
+}
+
 /// On ground earlier digs carved, the networks (which see a flat surface
 /// at H) under-fill; asked again with H moved, the dig fills the bucket,
 /// scores better (a fuller bucket, or the same dig retimed), and the
