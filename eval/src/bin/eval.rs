@@ -6,7 +6,6 @@ use eval::baselines::Baseline;
 use eval::evaluation::{Coverage, EvalSettings, evaluate};
 use eval::networks::Networks;
 use eval::pipeline::{self, PipelineSettings};
-use eval::seeds::HeldOut;
 use eval::whole::TemplatePlanning;
 use eval::{EvalError, benchmarks, output, tables};
 use infer::template::TemplateSettings;
@@ -291,21 +290,20 @@ fn run(cli: Cli) -> Result<(), EvalError> {
                     "--training-seeds must list one or more distinct seeds".into(),
                 ));
             }
-            let default_held_out = s.held_out.clone().unwrap_or(HeldOut {
-                per_type: 0,
-                seed: 0,
-            });
-            let held_out = HeldOut {
-                per_type: held_out.unwrap_or(default_held_out.per_type),
-                seed: held_out_seed.unwrap_or(default_held_out.seed),
-            };
-            if !quick && held_out.per_type > 0 && held_out.seed == eval.seed {
+            if let Some(h) = s.held_out.as_mut() {
+                h.per_type = held_out.unwrap_or(h.per_type);
+                h.seed = held_out_seed.unwrap_or(h.seed);
+            }
+            s.held_out = s.held_out.filter(|h| h.per_type > 0);
+            // Checked here too, so that a refusal leaves no lock behind.
+            if let (false, Some(h)) = (quick, &s.held_out)
+                && h.seed == eval.seed
+            {
                 return Err(EvalError::BadArgument(format!(
                     "--held-out-seed ({}) must differ from the dataset's --seed",
-                    held_out.seed
+                    h.seed
                 )));
             }
-            s.held_out = (held_out.per_type > 0).then_some(held_out);
             s.per_type = per_type;
             s.train_seconds = train_seconds;
             s.training_seeds = training_seeds;
