@@ -389,6 +389,16 @@ fn bad_input_is_a_typed_error() {
     assert!(tasks::random_tasks(&p, 1, 1, &impossible).is_err());
 }
 
+/// Tasks A–D planned, nothing solved again: what a pipeline test needs.
+fn planning_only() -> EvalSettings {
+    EvalSettings {
+        random_tasks: 0,
+        dig_by_dig: Coverage::Skip,
+        whole_task: Coverage::Skip,
+        ..EvalSettings::quick()
+    }
+}
+
 /// The full pipeline in miniature: every seed's networks are scored on the
 /// same held-out dataset, which is made once and kept for a rerun.
 #[test]
@@ -403,12 +413,7 @@ fn full_pipeline_scores_every_seed_on_one_held_out_dataset() {
     });
     s.train_seconds = 2.0;
     s.training_seeds = vec![1, 2];
-    s.eval = EvalSettings {
-        random_tasks: 0,
-        dig_by_dig: Coverage::Skip,
-        whole_task: Coverage::Skip,
-        ..EvalSettings::quick()
-    };
+    s.eval = planning_only();
     let o = pipeline::run(&s, false).unwrap();
     let steps: Vec<&str> = o.steps.iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(steps[..3], ["dataset", "held-out dataset", "training"]);
@@ -447,12 +452,7 @@ fn quick_pipeline_uses_the_shipped_networks() {
     use eval::pipeline::{self, PipelineSettings};
     let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts");
     let mut s = PipelineSettings::quick(temp_dir("pipeline"), shipped);
-    s.eval = EvalSettings {
-        random_tasks: 0,
-        dig_by_dig: Coverage::Skip,
-        whole_task: Coverage::Skip,
-        ..EvalSettings::quick()
-    };
+    s.eval = planning_only();
     let o = pipeline::run(&s, false).unwrap();
     assert!(o.dataset.is_none() && o.networks.is_empty());
     let steps: Vec<&str> = o.steps.iter().map(|(n, _)| n.as_str()).collect();
