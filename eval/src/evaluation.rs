@@ -12,8 +12,8 @@ use crate::seeds::{HeldOut, SeedFigures};
 use crate::summary::{Summary, summarise};
 use crate::tasks::{NamedTask, RandomRanges, task_set};
 use crate::whole::{
-    PlanSummary, TemplatePlanning, WholeTaskRow, optimise_sequences, plan_from_templates,
-    plan_with_optimiser,
+    LearnedPlanning, PlanSummary, TemplatePlanning, WholeTaskRow, optimise_sequences,
+    plan_from_library, plan_with_optimiser,
 };
 use dataset_gen::jobs::progress_bar;
 use dataset_gen::sequence::SequenceSettings;
@@ -71,6 +71,11 @@ pub struct EvalSettings {
     /// planned from (infer's template planner); `None`: not run.
     #[serde(default)]
     pub templates: Option<TemplatePlanning>,
+    /// The task network every task of the whole-task comparison is also
+    /// planned from, as `plan` does by default (with the templates above
+    /// as seeds too, and their planner settings); `None`: not run.
+    #[serde(default)]
+    pub learned: Option<LearnedPlanning>,
     /// The planner's settings, for the network and the optimiser in the loop alike.
     #[serde(default)]
     pub planner: PlannerSettings,
@@ -116,6 +121,7 @@ impl Default for EvalSettings {
             sequence: Coverage::Reference,
             sequence_search: sequence_search(),
             templates: Some(TemplatePlanning::default()),
+            learned: Some(LearnedPlanning::default()),
             planner: PlannerSettings::default(),
             alone_tries: alone_tries(),
         }
@@ -166,6 +172,13 @@ impl EvalSettings {
             None => out.push("no template planner".into()),
             Some(t) if *t != TemplatePlanning::default() => {
                 out.push("template planner settings differ from the defaults".into())
+            }
+            Some(_) => {}
+        }
+        match &self.learned {
+            None => out.push("no learned task planner".into()),
+            Some(l) if *l != LearnedPlanning::default() => {
+                out.push(format!("task network {}", l.network.display()))
             }
             Some(_) => {}
         }
@@ -230,7 +243,8 @@ pub struct EvalReport {
 }
 
 /// A task's plans: with the network, with the optimiser in the loop, by
-/// the sequence search and from templates, each when planned.
+/// the sequence search, from templates and by the learned task planner,
+/// each when planned.
 #[derive(Debug, Clone)]
 pub struct TaskPlans {
     pub name: String,
@@ -238,6 +252,7 @@ pub struct TaskPlans {
     pub in_loop: Option<Plan>,
     pub sequence: Option<Plan>,
     pub templates: Option<Plan>,
+    pub learned: Option<Plan>,
 }
 
 /// The 1-minute load average (0 where /proc/loadavg is not readable).
@@ -333,17 +348,21 @@ pub fn evaluate(
     let sequences = optimise_sequences(&planner, &by_sequence, s, settings.seed, &bar);
     bar.finish_and_clear();
 
-    // The templates are read before the clock of the first plan starts.
-    let from_templates = match &settings.templates {
-        Some(t) if !in_loop.is_empty() => {
-            let templates = t.load().map_err(EvalError::BadArgument)?;
-            let bar = progress_bar(in_loop.len() as u64, "tasks", show_progress);
-            bar.set_message("templates");
-            let plans = plan_from_templates(&planner, &templates, &in_loop, &t.settings, &bar);
-            bar.finish_and_clear();
-            Some(plans)
-        }
-        _ => None,
+    let (from_templates, learned) = match in_loop.is_empty() {
+        true => (None, None),
+        false => plan_from_library(
+            &planner,
+            settings.templates.as_ref(),
+            settings.learned.as_ref(),
+            &in_loop,
+            show_progress,
+        )
+        .map_err(EvalError::BadArgument)?,
+    };
+    let summary_of = |r: &Result<Plan, String>| {
+        r.as_ref()
+            .map(|p| PlanSummary::of_plan(p, None))
+            .map_err(Clone::clone)
     };
 
     let mut whole = Vec::new();
@@ -359,28 +378,17 @@ pub fn evaluate(
             .iter()
             .position(|x| x.name == t.name)
             .map(|i| &sequences[i]);
-        let templates = from_templates.as_ref().and_then(|plans| {
-            in_loop
-                .iter()
-                .position(|x| x.name == t.name)
-                .map(|i| &plans[i])
-        });
+        let templates = whole_plan(&from_templates, &in_loop, &t.name);
+        let learned = whole_plan(&learned, &in_loop, &t.name);
         if let Some((o, calls)) = optimiser {
             whole.push(WholeTaskRow {
                 task: t.name.clone(),
                 network: network.clone(),
                 optimiser: PlanSummary::of(o),
                 optimiser_calls: *calls,
-                sequence: sequence.map(|r| {
-                    r.as_ref()
-                        .map(|p| PlanSummary::of_plan(p, None))
-                        .map_err(Clone::clone)
-                }),
-                templates: templates.map(|r| {
-                    r.as_ref()
-                        .map(|p| PlanSummary::of_plan(p, None))
-                        .map_err(Clone::clone)
-                }),
+                sequence: sequence.map(summary_of),
+                templates: templates.map(summary_of),
+                learned: learned.map(summary_of),
             });
         }
         plans.push(TaskPlans {
@@ -389,6 +397,7 @@ pub fn evaluate(
             in_loop: optimiser.map(|(o, _)| o.plan.clone()),
             sequence: sequence.and_then(|r| r.as_ref().ok().cloned()),
             templates: templates.and_then(|r| r.as_ref().ok().cloned()),
+            learned: learned.and_then(|r| r.as_ref().ok().cloned()),
         });
         reports.push(TaskReport {
             name: t.name.clone(),
@@ -414,4 +423,15 @@ pub fn evaluate(
         elapsed_s: clock.elapsed().as_secs_f64(),
         plans,
     })
+}
+
+/// Task `name`'s plan among a whole-task method's `plans` of the tasks
+/// `in_loop`, when the method ran and the task is one of them.
+fn whole_plan<'a>(
+    plans: &'a Option<Vec<Result<Plan, String>>>,
+    in_loop: &[NamedTask],
+    name: &str,
+) -> Option<&'a Result<Plan, String>> {
+    let i = in_loop.iter().position(|x| x.name == name)?;
+    plans.as_ref().map(|p| &p[i])
 }

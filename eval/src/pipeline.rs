@@ -303,6 +303,7 @@ fn learned_only(full: &EvalSettings) -> EvalSettings {
         whole_task: Coverage::Skip,
         sequence: Coverage::Skip,
         templates: None,
+        learned: None,
         ..full.clone()
     }
 }

@@ -232,6 +232,7 @@ pub fn plans(dir: &Path, report: &EvalReport) -> Result<(), EvalError> {
         for (suffix, label, plan) in [
             ("sequence", "sequence search", &p.sequence),
             ("templates", "from templates", &p.templates),
+            ("learned", "learned task planner", &p.learned),
         ] {
             if let Some(q) = plan {
                 write_file(

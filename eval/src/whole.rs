@@ -8,11 +8,12 @@ use crate::digs::name_key;
 use crate::planning::{PlanFailure, PlanRun, run_plan};
 use crate::predictor::OptimiserPredictor;
 use crate::tasks::NamedTask;
+use dataset_gen::jobs::progress_bar;
 use dataset_gen::rng::derive_seed;
 use dataset_gen::sequence::{SequenceSettings, optimise_task};
 use infer::plan::Plan;
-use infer::template::{TemplateFile, TemplateSettings};
-use infer::{Config, Outcome, Planner, Template};
+use infer::template::{TaskNetworkFile, TemplateFile, TemplateSettings};
+use infer::{Config, Outcome, Planner, Template, TrenchTask};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -109,6 +110,10 @@ pub struct WholeTaskRow {
     /// or why the template planner made none.
     #[serde(default)]
     pub templates: Option<Result<PlanSummary, String>>,
+    /// Planned by `plan`'s default, the learned task planner
+    /// ([`LearnedPlanning`]), when run: the plan, or why it made none.
+    #[serde(default)]
+    pub learned: Option<Result<PlanSummary, String>>,
 }
 
 /// The templates a whole-task comparison also plans every task from
@@ -155,26 +160,96 @@ impl TemplatePlanning {
     }
 }
 
-/// Each task planned from `templates`, one task after the other on one
-/// core (a controller's view of the planning time); the plan, or why the
-/// template planner could not make one.
-pub fn plan_from_templates(
+/// The task network `plan` plans from by default (`train_tasks` writes it;
+/// the shipped one is trained on the chained 1,000-task library).
+pub const DEFAULT_TASK_NETWORK: &str = "artifacts/task_network/seed_1.json";
+
+/// The task network a whole-task comparison also plans every task from,
+/// as `plan` does by default: its sequences and the nearest templates (of
+/// [`TemplatePlanning`], when given) as seeds, refitted within the
+/// template planner's bound.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LearnedPlanning {
+    pub network: std::path::PathBuf,
+}
+
+impl Default for LearnedPlanning {
+    fn default() -> Self {
+        LearnedPlanning {
+            network: DEFAULT_TASK_NETWORK.into(),
+        }
+    }
+}
+
+impl LearnedPlanning {
+    /// Reads the task network file.
+    pub fn load(&self) -> Result<TaskNetworkFile, String> {
+        let f = &self.network;
+        let text = std::fs::read_to_string(f).map_err(|e| format!("{}: {e}", f.display()))?;
+        TaskNetworkFile::from_json(&text).map_err(|e| format!("{}: {e}", f.display()))
+    }
+}
+
+/// Each task's plan (or why there is none) by a real-time planner.
+pub type TaskPlans = Vec<Result<Plan, String>>;
+
+/// Every task planned from the templates and by the learned task planner
+/// (seeded by the same templates, with their settings), each when given.
+/// The files are read before the first plan's clock starts.
+#[allow(clippy::result_large_err)] // the planners' errors, turned into text at once
+pub fn plan_from_library(
     planner: &Planner,
-    templates: &[Template],
+    templates: Option<&TemplatePlanning>,
+    learned: Option<&LearnedPlanning>,
     tasks: &[NamedTask],
-    settings: &TemplateSettings,
-    bar: &indicatif::ProgressBar,
-) -> Vec<Result<Plan, String>> {
-    tasks
+    show_progress: bool,
+) -> Result<(Option<TaskPlans>, Option<TaskPlans>), String> {
+    let library = templates.map(TemplatePlanning::load).transpose()?;
+    let network = learned.map(LearnedPlanning::load).transpose()?;
+    let settings = templates.map(|t| t.settings).unwrap_or_default();
+    let from_templates = library.as_deref().map(|library| {
+        plan_each(tasks, "templates", show_progress, |task| {
+            planner.plan_from_templates(task, library, &settings)
+        })
+    });
+    let from_network = match &network {
+        Some(file) => {
+            let net = file.network().map_err(|e| e.to_string())?;
+            let seeds = library.as_deref().unwrap_or_default();
+            Some(plan_each(
+                tasks,
+                "learned task planner",
+                show_progress,
+                |task| planner.plan_learned_with(task, &net, seeds, &settings),
+            ))
+        }
+        None => None,
+    };
+    Ok((from_templates, from_network))
+}
+
+/// Each task planned by `plan_task`, one task after the other on one core
+/// (a controller's view of the planning time); the plan, or why the
+/// planner could not make one.
+fn plan_each(
+    tasks: &[NamedTask],
+    label: &'static str,
+    show_progress: bool,
+    mut plan_task: impl FnMut(&TrenchTask) -> Result<Plan, infer::PlanError>,
+) -> TaskPlans {
+    let bar = progress_bar(tasks.len() as u64, "tasks", show_progress);
+    bar.set_message(label);
+    let plans = tasks
         .iter()
         .map(|t| {
-            let plan = planner
-                .plan_from_templates(&t.task, templates, settings)
-                .map_err(|e| e.to_string());
+            let plan = plan_task(&t.task).map_err(|e| e.to_string());
             bar.inc(1);
             plan
         })
-        .collect()
+        .collect();
+    bar.finish_and_clear();
+    plans
 }
 
 /// Each task's digs chosen as one sequence by PSO

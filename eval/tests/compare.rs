@@ -7,7 +7,7 @@ use eval::digs::{DigRow, compare_digs};
 use eval::evaluation::{Coverage, EvalSettings, evaluate};
 use eval::networks::Networks;
 use eval::planning::{PlanRun, run_plan};
-use eval::whole::{PlanSummary, TemplatePlanning, plan_with_optimiser};
+use eval::whole::{LearnedPlanning, PlanSummary, TemplatePlanning, plan_with_optimiser};
 use eval::{output, tasks};
 use indicatif::ProgressBar;
 use infer::{
@@ -273,12 +273,23 @@ fn small_evaluation_writes_every_report_file() {
                 ..Default::default()
             },
         }),
+        learned: Some(LearnedPlanning {
+            network: Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("../artifacts/task_network/seed_1.json"),
+        }),
         ..EvalSettings::default()
     };
     let report = evaluate(&Config::default(), &networks(), &settings, false).unwrap();
     assert_eq!(report.whole.len(), 4);
     assert!(report.whole.iter().all(|w| w.sequence.is_some()));
     assert!(report.whole.iter().all(|w| w.templates.is_some()));
+    assert!(report.whole.iter().all(|w| w.learned.is_some()));
+    let learned = report
+        .summary
+        .goals
+        .iter()
+        .find(|g| g.what.contains("learned task planner"));
+    assert_eq!(learned.map(|g| g.target.as_str()), Some("4 / 4 / ≤ 2 %"));
     assert_eq!(report.tasks.len(), 5);
     assert_eq!(report.tasks[4].name, "R01");
     assert!(!report.tasks[4].dig_by_dig);
@@ -305,6 +316,18 @@ fn small_evaluation_writes_every_report_file() {
         "plans/R01.svg",
     ] {
         assert!(dir.join(f).is_file(), "{f} written");
+    }
+    // The learned planner's plans beside the others', where it made one
+    // (150 evaluations make some, not all).
+    let learned: Vec<&str> = report
+        .whole
+        .iter()
+        .filter(|w| w.learned.as_ref().is_some_and(|r| r.is_ok()))
+        .map(|w| w.task.as_str())
+        .collect();
+    assert!(!learned.is_empty());
+    for t in learned {
+        assert!(dir.join(format!("plans/{t}_learned.json")).is_file());
     }
     let csv = std::fs::read_to_string(dir.join("digs.csv")).unwrap();
     assert_eq!(csv.lines().count(), report.digs.len() + 1);

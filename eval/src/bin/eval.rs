@@ -6,7 +6,7 @@ use eval::baselines::Baseline;
 use eval::evaluation::{Coverage, EvalSettings, evaluate};
 use eval::networks::Networks;
 use eval::pipeline::{self, PipelineSettings};
-use eval::whole::TemplatePlanning;
+use eval::whole::{LearnedPlanning, TemplatePlanning};
 use eval::{EvalError, benchmarks, output, tables};
 use infer::template::TemplateSettings;
 use std::path::PathBuf;
@@ -54,6 +54,11 @@ struct EvalArgs {
     /// artifacts/templates.json, written by `dataset_gen templates`); `none`: not run.
     #[arg(long)]
     templates: Option<String>,
+    /// The task network every whole task is also planned from, as `plan`
+    /// does by default, seeded by those templates too (default
+    /// artifacts/task_network/seed_1.json, written by `train_tasks`); `none`: not run.
+    #[arg(long)]
+    task_network: Option<String>,
 }
 
 impl EvalArgs {
@@ -75,6 +80,15 @@ impl EvalArgs {
                 s.templates = Some(TemplatePlanning {
                     file: file.into(),
                     ..TemplatePlanning::default()
+                })
+            }
+        }
+        match self.task_network.as_deref() {
+            None => {}
+            Some("none") => s.learned = None,
+            Some(file) => {
+                s.learned = Some(LearnedPlanning {
+                    network: file.into(),
                 })
             }
         }

@@ -245,11 +245,13 @@ pub fn whole_csv(report: &EvalReport) -> String {
     let rows = report.whole.iter().flat_map(|w| {
         let sequence = w.sequence.as_ref().and_then(|r| r.as_ref().ok());
         let templates = w.templates.as_ref().and_then(|r| r.as_ref().ok());
+        let learned = w.learned.as_ref().and_then(|r| r.as_ref().ok());
         [
             ("network", Some(&w.network), None),
             ("pso_in_loop", Some(&w.optimiser), Some(w.optimiser_calls)),
             ("pso_sequence", sequence, None),
             ("templates", templates, None),
+            ("learned", learned, None),
         ]
         .into_iter()
         .filter_map(|(who, s, calls)| s.map(|s| (who, s, calls)))

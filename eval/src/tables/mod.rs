@@ -473,10 +473,34 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
             );
             whole_plans_table(&mut out, report, |w| w.templates.as_ref());
         }
+        if let Some(l) = report
+            .settings
+            .learned
+            .as_ref()
+            .filter(|_| report.whole.iter().any(|w| w.learned.is_some()))
+        {
+            let seeds = match &report.settings.templates {
+                Some(t) => format!(
+                    "and the nearest of the templates above ({} at most)",
+                    t.settings.neighbours
+                ),
+                None => "alone (no templates given)".into(),
+            };
+            let bound = report.settings.templates.as_ref().map_or_else(
+                || infer::TemplateSettings::default().max_evaluations,
+                |t| t.settings.max_evaluations,
+            );
+            let _ = writeln!(
+                out,
+                "\n## Whole tasks: the learned task planner (`plan`'s default)\n\nThe task network `{}` (trained by `train_tasks` on the chained plan library; shipped, not retrained by this run) predicts each task's dig sequence in the expected dig count, one fewer and one more; those sequences {seeds} seed the same race and refit as the template planner's, at most {bound} exact dig evaluations per task, every dig checked in continuous time. Over 64 tasks and three training seeds: `eval learned` (`artifacts/learned/report.md`).\n",
+                l.network.display()
+            );
+            whole_plans_table(&mut out, report, |w| w.learned.as_ref());
+        }
     }
     let _ = writeln!(
         out,
-        "\n## Files\n\n`report.json` (everything), `digs.csv` (every dig, every method), `tasks.csv`, `table4.csv`, `whole.csv`, `objective_gap.svg` (per-dig objective of the network relative to each optimiser), `dig_time.svg` (planning time per dig, log scale), `plans/<task>.svg|json` (the network's plans), `plans/<task>_pso.svg|json` (PSO in the loop), `plans/<task>_sequence.svg|json` (the sequence search) and `plans/<task>_templates.svg|json` (from templates)."
+        "\n## Files\n\n`report.json` (everything), `digs.csv` (every dig, every method), `tasks.csv`, `table4.csv`, `whole.csv`, `objective_gap.svg` (per-dig objective of the network relative to each optimiser), `dig_time.svg` (planning time per dig, log scale), `plans/<task>.svg|json` (the network's plans), `plans/<task>_pso.svg|json` (PSO in the loop), `plans/<task>_sequence.svg|json` (the sequence search), `plans/<task>_templates.svg|json` (from templates) and `plans/<task>_learned.svg|json` (the learned task planner)."
     );
     out
 }
