@@ -61,6 +61,10 @@ pub struct PlannerSettings {
     pub moves: MoveSettings,
     /// Score weights of a candidate dig, per V_max of material: cut below
     /// the design (against design material removed) and the dig objective.
+    /// The objective's 1.5 (was 0.6) picks cheaper digs that leave the
+    /// material in reach of the next: digs nearer guarded PSO's objective
+    /// and more tasks finished, on eval's tasks and on another seed's
+    /// (`eval/experiments.md`, 2026-12-06).
     pub weight_over_dig: f64,
     pub weight_objective: f64,
     /// How many of the least infeasible candidates are repaired, in turn,
@@ -78,7 +82,8 @@ pub struct PlannerSettings {
     /// none.
     pub polish: RepairSettings,
     /// How much less design material the polished dig may remove, per
-    /// V_max of material.
+    /// V_max of material (0.08: the polish may trade a little more of it
+    /// for a lower objective; the profile hardly moves, same entry).
     pub polish_keep: f64,
     /// Most exact-model evaluations one dig may spend, a bound on its
     /// planning time whatever the surface (each costs 15–30 µs here): the
@@ -125,7 +130,7 @@ impl Default for PlannerSettings {
             start_after_move: 0.95,
             moves: MoveSettings::default(),
             weight_over_dig: 3.0,
-            weight_objective: 0.6,
+            weight_objective: 1.5,
             repairs: 8,
             repair_reach: 0.08,
             fit: RepairSettings {
@@ -136,7 +141,7 @@ impl Default for PlannerSettings {
                 budget: 300,
                 ..RepairSettings::default()
             },
-            polish_keep: 0.03,
+            polish_keep: 0.08,
             max_evaluations: None,
             retime: true,
         }
