@@ -53,7 +53,7 @@ impl PipelineSettings {
     /// once, about 3.5 minutes a seed; the 360 s budget only stops a slow
     /// machine), the full evaluation (about 4 minutes) and the other
     /// seeds' learned figures (seconds), and a held-out dataset of 600
-    /// digs per type (about 40 s): about 17 minutes in all. Why
+    /// digs per type (about 40 s): about 15–17 minutes in all. Why
     /// 2,000 and not 1,000: every seed's backward network reaches the
     /// 97 % goal and the seeds spread less (`experiments.md`, 2026-12-06).
     pub fn full(out: PathBuf) -> Self {
