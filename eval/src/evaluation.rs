@@ -12,7 +12,7 @@ use crate::seeds::{HeldOut, SeedFigures};
 use crate::summary::{Summary, summarise};
 use crate::tasks::{NamedTask, RandomRanges, task_set};
 use crate::whole::{
-    LearnedPlanning, PlanSummary, TemplatePlanning, WholeTaskRow, optimise_sequences,
+    LearnedPlanning, PlanResults, PlanSummary, TemplatePlanning, WholeTaskRow, optimise_sequences,
     plan_from_library, plan_with_optimiser,
 };
 use dataset_gen::jobs::progress_bar;
@@ -428,7 +428,7 @@ pub fn evaluate(
 /// Task `name`'s plan among a whole-task method's `plans` of the tasks
 /// `in_loop`, when the method ran and the task is one of them.
 fn whole_plan<'a>(
-    plans: &'a Option<Vec<Result<Plan, String>>>,
+    plans: &'a Option<PlanResults>,
     in_loop: &[NamedTask],
     name: &str,
 ) -> Option<&'a Result<Plan, String>> {

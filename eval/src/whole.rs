@@ -192,7 +192,7 @@ impl LearnedPlanning {
 }
 
 /// Each task's plan (or why there is none) by a real-time planner.
-pub type TaskPlans = Vec<Result<Plan, String>>;
+pub type PlanResults = Vec<Result<Plan, String>>;
 
 /// Every task planned from the templates and by the learned task planner
 /// (seeded by the same templates, with their settings), each when given.
@@ -204,7 +204,7 @@ pub fn plan_from_library(
     learned: Option<&LearnedPlanning>,
     tasks: &[NamedTask],
     show_progress: bool,
-) -> Result<(Option<TaskPlans>, Option<TaskPlans>), String> {
+) -> Result<(Option<PlanResults>, Option<PlanResults>), String> {
     let library = templates.map(TemplatePlanning::load).transpose()?;
     let network = learned.map(LearnedPlanning::load).transpose()?;
     let settings = templates.map(|t| t.settings).unwrap_or_default();
@@ -237,7 +237,7 @@ fn plan_each(
     label: &'static str,
     show_progress: bool,
     mut plan_task: impl FnMut(&TrenchTask) -> Result<Plan, infer::PlanError>,
-) -> TaskPlans {
+) -> PlanResults {
     let bar = progress_bar(tasks.len() as u64, "tasks", show_progress);
     bar.set_message(label);
     let plans = tasks
