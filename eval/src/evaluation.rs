@@ -12,8 +12,8 @@ use crate::seeds::{HeldOut, SeedFigures};
 use crate::summary::{Summary, summarise};
 use crate::tasks::{NamedTask, RandomRanges, task_set};
 use crate::whole::{
-    LearnedPlanning, PlanResults, PlanSummary, TemplatePlanning, WholeTaskRow, optimise_sequences,
-    plan_from_library, plan_with_optimiser,
+    LearnedPlanning, Library, PlanResults, PlanSummary, TemplatePlanning, WholeTaskRow,
+    optimise_sequences, plan_with_optimiser,
 };
 use dataset_gen::jobs::progress_bar;
 use dataset_gen::sequence::SequenceSettings;
@@ -139,6 +139,16 @@ impl EvalSettings {
             whole_task: Coverage::Reference,
             sequence: Coverage::Skip,
             ..EvalSettings::default()
+        }
+    }
+
+    /// The templates and the task network its whole tasks are planned
+    /// from, read now (none when there is no whole-task comparison).
+    pub fn library(&self) -> Result<Library, EvalError> {
+        match self.whole_task {
+            Coverage::Skip => Ok(Library::default()),
+            _ => Library::load(self.templates.as_ref(), self.learned.as_ref())
+                .map_err(EvalError::BadArgument),
         }
     }
 
@@ -273,6 +283,7 @@ pub fn evaluate(
     let clock = Instant::now();
     let load_start = load_average();
     let planner = Planner::new(cfg, &settings.planner)?;
+    let library = settings.library()?;
     let tasks = task_set(
         &planner,
         settings.random_tasks,
@@ -348,17 +359,7 @@ pub fn evaluate(
     let sequences = optimise_sequences(&planner, &by_sequence, s, settings.seed, &bar);
     bar.finish_and_clear();
 
-    let (from_templates, learned) = match in_loop.is_empty() {
-        true => (None, None),
-        false => plan_from_library(
-            &planner,
-            settings.templates.as_ref(),
-            settings.learned.as_ref(),
-            &in_loop,
-            show_progress,
-        )
-        .map_err(EvalError::BadArgument)?,
-    };
+    let (from_templates, learned) = library.plan(&planner, &in_loop, show_progress)?;
     let summary_of = |r: &Result<Plan, String>| {
         r.as_ref()
             .map(|p| PlanSummary::of_plan(p, None))

@@ -128,6 +128,10 @@ pub struct PipelineOutcome {
 /// Runs the pipeline. `progress` shows bars on stderr.
 pub fn run(settings: &PipelineSettings, progress: bool) -> Result<PipelineOutcome, EvalError> {
     let cfg = Config::default();
+    // The stored plans and task network the evaluation plans from are
+    // read first: a bad file stops the run before any folder, dataset or
+    // training.
+    settings.eval.library()?;
     // One pipeline per working folder: a second would train on the first's
     // half-written dataset and overwrite its networks. The quick form
     // writes nothing there.

@@ -5,6 +5,7 @@
 
 use crate::baselines::Baseline;
 use crate::digs::name_key;
+use crate::error::EvalError;
 use crate::planning::{PlanFailure, PlanRun, run_plan};
 use crate::predictor::OptimiserPredictor;
 use crate::tasks::NamedTask;
@@ -194,39 +195,66 @@ impl LearnedPlanning {
 /// Each task's plan (or why there is none) by a real-time planner.
 pub type PlanResults = Vec<Result<Plan, String>>;
 
-/// Every task planned from the templates and by the learned task planner
-/// (seeded by the same templates, with their settings), each when given.
-/// The files are read before the first plan's clock starts.
-#[allow(clippy::result_large_err)] // the planners' errors, turned into text at once
-pub fn plan_from_library(
-    planner: &Planner,
-    templates: Option<&TemplatePlanning>,
-    learned: Option<&LearnedPlanning>,
-    tasks: &[NamedTask],
-    show_progress: bool,
-) -> Result<(Option<PlanResults>, Option<PlanResults>), String> {
-    let library = templates.map(TemplatePlanning::load).transpose()?;
-    let network = learned.map(LearnedPlanning::load).transpose()?;
-    let settings = templates.map(|t| t.settings).unwrap_or_default();
-    let from_templates = library.as_deref().map(|library| {
-        plan_each(tasks, "templates", show_progress, |task| {
-            planner.plan_from_templates(task, library, &settings)
-        })
-    });
-    let from_network = match &network {
-        Some(file) => {
-            let net = file.network().map_err(|e| e.to_string())?;
-            let seeds = library.as_deref().unwrap_or_default();
-            Some(plan_each(
-                tasks,
-                "learned task planner",
-                show_progress,
-                |task| planner.plan_learned_with(task, &net, seeds, &settings),
-            ))
+/// The templates and the task network the real-time planners plan whole
+/// tasks from, read once, before any work: a missing or bad file is an
+/// error at the start, not after the optimisers have run.
+#[derive(Debug, Default)]
+pub struct Library {
+    templates: Option<(Vec<Template>, TemplateSettings)>,
+    network: Option<TaskNetworkFile>,
+}
+
+impl Library {
+    /// Reads each file given, and checks the task network's shape.
+    pub fn load(
+        templates: Option<&TemplatePlanning>,
+        learned: Option<&LearnedPlanning>,
+    ) -> Result<Self, String> {
+        let templates = match templates {
+            Some(t) => Some((t.load()?, t.settings)),
+            None => None,
+        };
+        let network = learned.map(LearnedPlanning::load).transpose()?;
+        if let (Some(file), Some(l)) = (&network, learned) {
+            file.network()
+                .map_err(|e| format!("{}: {e}", l.network.display()))?;
         }
-        None => None,
-    };
-    Ok((from_templates, from_network))
+        Ok(Library { templates, network })
+    }
+
+    /// Every task planned from the templates and by the learned task
+    /// planner (seeded by the same templates, with their settings), each
+    /// when given.
+    #[allow(clippy::result_large_err)] // the planners' errors, turned into text at once
+    pub fn plan(
+        &self,
+        planner: &Planner,
+        tasks: &[NamedTask],
+        show_progress: bool,
+    ) -> Result<(Option<PlanResults>, Option<PlanResults>), EvalError> {
+        let (library, settings) = match &self.templates {
+            Some((t, s)) => (t.as_slice(), *s),
+            None => (&[][..], TemplateSettings::default()),
+        };
+        let from_templates = self.templates.as_ref().map(|_| {
+            plan_each(tasks, "templates", show_progress, |task| {
+                planner.plan_from_templates(task, library, &settings)
+            })
+        });
+        let from_network = match &self.network {
+            Some(file) => {
+                let net = file.network()?;
+                Some(plan_each(
+                    tasks,
+                    "learned task planner",
+                    show_progress,
+                    |task| planner.plan_learned_with(task, &net, library, &settings),
+                ))
+            }
+            None => None,
+        };
+        Ok((from_templates, from_network))
+    }
 }
 
 /// Each task planned by `plan_task`, one task after the other on one core

@@ -15,6 +15,9 @@ fn bad_input_exits_with_2() {
     let below_the_least = std::env::temp_dir().join(format!("eval-ts-{}.json", std::process::id()));
     std::fs::write(&below_the_least, r#"{"max_evaluations": 10}"#).unwrap();
     let below_the_least = below_the_least.to_str().unwrap();
+    // A missing task network stops the pipeline before it makes its folder.
+    let untouched = std::env::temp_dir().join(format!("eval-untouched-{}", std::process::id()));
+    let untouched = untouched.to_str().unwrap();
     for args in [
         &["compare", "--networks", "/nonexistent"][..],
         &["learned", "--dig-networks", "/nonexistent"],
@@ -27,12 +30,21 @@ fn bad_input_exits_with_2() {
         &["pipeline", "--training-seeds", "1,1"],
         &["pipeline", "--held-out-seed", "1"],
         &["pipeline", "--seed", "5", "--held-out-seed", "5"],
+        &["compare", "--quick", "--task-network", "/nonexistent"],
+        &[
+            "pipeline",
+            "--task-network",
+            "/nonexistent",
+            "--out",
+            untouched,
+        ],
     ] {
         let out = eval().args(args).output().unwrap();
         assert_eq!(out.status.code(), Some(2), "{args:?}");
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(err.starts_with("error: "), "{args:?}: {err}");
     }
+    assert!(!Path::new(untouched).exists());
 }
 
 #[test]
