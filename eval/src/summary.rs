@@ -318,7 +318,7 @@ fn learned_goal(whole: &[WholeTaskRow]) -> Option<Goal> {
     let worst = done.iter().map(|p| p.under_dug).fold(0.0, f64::max);
     let n = plans.len();
     Some(Goal {
-        what: "tasks the learned task planner (`plan`'s default: the shipped task network and the nearest templates as seeds, refitted) finishes / plans within 3 % under- and over-dug / mean under-dug".into(),
+        what: "tasks the learned task planner (`plan`'s default, from the task network) finishes / plans within 3 % under- and over-dug / mean under-dug".into(),
         target: format!("{n} / {n} / ≤ 2 %"),
         measured: format!(
             "{} / {within} / {:.2} % (worst under-dug {:.1} %)",

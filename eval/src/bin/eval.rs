@@ -61,6 +61,11 @@ struct EvalArgs {
     task_network: Option<String>,
 }
 
+/// A file argument that may be `none` (the step is not run).
+fn file_or_none(arg: &str) -> Option<PathBuf> {
+    (arg != "none").then(|| arg.into())
+}
+
 impl EvalArgs {
     fn apply(&self, mut s: EvalSettings) -> Result<EvalSettings, EvalError> {
         s.seed = self.seed;
@@ -73,24 +78,14 @@ impl EvalArgs {
         if let Some(c) = self.whole_task {
             s.whole_task = c;
         }
-        match self.templates.as_deref() {
-            None => {}
-            Some("none") => s.templates = None,
-            Some(file) => {
-                s.templates = Some(TemplatePlanning {
-                    file: file.into(),
-                    ..TemplatePlanning::default()
-                })
-            }
+        if let Some(arg) = &self.templates {
+            s.templates = file_or_none(arg).map(|file| TemplatePlanning {
+                file,
+                ..TemplatePlanning::default()
+            });
         }
-        match self.task_network.as_deref() {
-            None => {}
-            Some("none") => s.learned = None,
-            Some(file) => {
-                s.learned = Some(LearnedPlanning {
-                    network: file.into(),
-                })
-            }
+        if let Some(arg) = &self.task_network {
+            s.learned = file_or_none(arg).map(|network| LearnedPlanning { network });
         }
         if let Some(path) = &self.planner {
             s.planner = read_json(path)?;
