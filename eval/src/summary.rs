@@ -316,17 +316,18 @@ fn learned_goal(whole: &[WholeTaskRow]) -> Option<Goal> {
         .count();
     let mean_under = done.iter().map(|p| p.under_dug).sum::<f64>() / done.len().max(1) as f64;
     let worst = done.iter().map(|p| p.under_dug).fold(0.0, f64::max);
+    let infeasible: usize = done.iter().map(|p| p.infeasible).sum();
     let n = plans.len();
     Some(Goal {
         what: "tasks the learned task planner (`plan`'s default, from the task network) finishes / plans within 3 % under- and over-dug / mean under-dug".into(),
         target: format!("{n} / {n} / ≤ 2 %"),
         measured: format!(
-            "{} / {within} / {:.2} % (worst under-dug {:.1} %)",
+            "{} / {within} / {:.2} % (worst under-dug {:.1} %; {infeasible} infeasible digs)",
             done.len(),
             mean_under * 100.0,
             worst * 100.0
         ),
-        met: done.len() == n && within == n && mean_under <= 0.02,
+        met: done.len() == n && within == n && mean_under <= 0.02 && infeasible == 0,
     })
 }
 
@@ -525,7 +526,8 @@ mod tests {
     }
 
     /// Every task finished and within 3 %, with the mean ≤ 2 %: met; a
-    /// task without a plan, one above 3 % or a mean above 2 % is not.
+    /// task without a plan, one above 3 %, a mean above 2 % or an
+    /// infeasible dig is not.
     #[test]
     fn the_learned_goal_needs_every_task_finished_and_within() {
         let goal = |rows: &[WholeTaskRow]| learned_goal(rows).map(|g| (g.measured, g.met));
@@ -541,6 +543,15 @@ mod tests {
         assert!(text.starts_with("1 / 1 /"), "{text}");
         let over = [good[0].clone(), row("B", Some(Ok(plan(0.01, 0.031))))];
         assert!(!goal(&over).unwrap().1);
+        let broken = PlanSummary {
+            infeasible: 1,
+            ..plan(0.01, 0.01)
+        };
+        assert!(
+            !goal(&[good[0].clone(), row("B", Some(Ok(broken)))])
+                .unwrap()
+                .1
+        );
         let mean = [
             row("A", Some(Ok(plan(0.025, 0.0)))),
             row("B", Some(Ok(plan(0.025, 0.0)))),
