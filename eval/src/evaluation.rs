@@ -6,14 +6,14 @@
 use crate::baselines::Baseline;
 use crate::digs::{DigRow, compare_digs};
 use crate::error::EvalError;
+use crate::library::{LearnedPlanning, LearnedTotals, Library, PlanResults};
 use crate::networks::Networks;
 use crate::planning::{PlanRun, run_plan};
 use crate::seeds::{HeldOut, SeedFigures};
 use crate::summary::{Summary, summarise};
 use crate::tasks::{NamedTask, RandomRanges, task_set};
 use crate::whole::{
-    LearnedPlanning, Library, PlanResults, PlanSummary, TemplatePlanning, WholeTaskRow,
-    optimise_sequences, plan_with_optimiser,
+    PlanSummary, TemplatePlanning, WholeTaskRow, optimise_sequences, plan_with_optimiser,
 };
 use dataset_gen::jobs::progress_bar;
 use dataset_gen::sequence::SequenceSettings;
@@ -71,7 +71,7 @@ pub struct EvalSettings {
     /// planned from (infer's template planner); `None`: not run.
     #[serde(default)]
     pub templates: Option<TemplatePlanning>,
-    /// The task network every task of the whole-task comparison is also
+    /// The task networks every task of the whole-task comparison is also
     /// planned from, as `plan` does by default (with the templates above
     /// as seeds too, and their planner settings); `None`: not run.
     #[serde(default)]
@@ -147,8 +147,7 @@ impl EvalSettings {
     pub fn library(&self) -> Result<Library, EvalError> {
         match self.whole_task {
             Coverage::Skip => Ok(Library::default()),
-            _ => Library::load(self.templates.as_ref(), self.learned.as_ref())
-                .map_err(EvalError::BadArgument),
+            _ => Library::load(self.templates.as_ref(), self.learned.as_ref()),
         }
     }
 
@@ -188,7 +187,7 @@ impl EvalSettings {
         match &self.learned {
             None => out.push("no learned task planner".into()),
             Some(l) if *l != LearnedPlanning::default() => {
-                out.push(format!("task network {}", l.network.display()))
+                out.push(format!("task networks {}", l.networks.display()))
             }
             Some(_) => {}
         }
@@ -238,6 +237,10 @@ pub struct EvalReport {
     pub tasks: Vec<TaskReport>,
     pub digs: Vec<DigRow>,
     pub whole: Vec<WholeTaskRow>,
+    /// The learned task planner's totals per task network over the
+    /// whole-task comparison's tasks (empty when it did not run).
+    #[serde(default)]
+    pub learned_seeds: Vec<LearnedTotals>,
     pub summary: Summary,
     /// The learned figures of every training seed's networks (the
     /// pipeline's; empty for one pair of networks evaluated alone).
@@ -359,7 +362,7 @@ pub fn evaluate(
     let sequences = optimise_sequences(&planner, &by_sequence, s, settings.seed, &bar);
     bar.finish_and_clear();
 
-    let (from_templates, learned) = library.plan(&planner, &in_loop, show_progress)?;
+    let stored = library.plan(&planner, &in_loop, show_progress)?;
     let summary_of = |r: &Result<Plan, String>| {
         r.as_ref()
             .map(|p| PlanSummary::of_plan(p, None))
@@ -379,8 +382,8 @@ pub fn evaluate(
             .iter()
             .position(|x| x.name == t.name)
             .map(|i| &sequences[i]);
-        let templates = whole_plan(&from_templates, &in_loop, &t.name);
-        let learned = whole_plan(&learned, &in_loop, &t.name);
+        let templates = whole_plan(stored.templates.as_ref(), &in_loop, &t.name);
+        let learned = whole_plan(stored.default_learned(), &in_loop, &t.name);
         if let Some((o, calls)) = optimiser {
             whole.push(WholeTaskRow {
                 task: t.name.clone(),
@@ -408,7 +411,15 @@ pub fn evaluate(
             dig_by_dig: settings.dig_by_dig.covers(t),
         });
     }
-    let summary = summarise(&reports, &runs, &digs, &whole, settings.alone_tries);
+    let learned_seeds = stored.learned_totals();
+    let summary = summarise(
+        &reports,
+        &runs,
+        &digs,
+        &whole,
+        &learned_seeds,
+        settings.alone_tries,
+    );
     Ok(EvalReport {
         machine: train::job::machine(),
         load_average: [load_start, load_average()],
@@ -418,6 +429,7 @@ pub fn evaluate(
         tasks: reports,
         digs,
         whole,
+        learned_seeds,
         summary,
         training_seeds: Vec::new(),
         held_out: None,
@@ -429,10 +441,10 @@ pub fn evaluate(
 /// Task `name`'s plan among a whole-task method's `plans` of the tasks
 /// `in_loop`, when the method ran and the task is one of them.
 fn whole_plan<'a>(
-    plans: &'a Option<PlanResults>,
+    plans: Option<&'a PlanResults>,
     in_loop: &[NamedTask],
     name: &str,
 ) -> Option<&'a Result<Plan, String>> {
     let i = in_loop.iter().position(|x| x.name == name)?;
-    plans.as_ref().map(|p| &p[i])
+    plans.map(|p| &p[i])
 }

@@ -25,6 +25,7 @@ pub mod digs;
 pub mod error;
 pub mod evaluation;
 pub mod learned;
+pub mod library;
 pub mod networks;
 pub mod output;
 pub mod pipeline;

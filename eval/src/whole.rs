@@ -5,16 +5,14 @@
 
 use crate::baselines::Baseline;
 use crate::digs::name_key;
-use crate::error::EvalError;
 use crate::planning::{PlanFailure, PlanRun, run_plan};
 use crate::predictor::OptimiserPredictor;
 use crate::tasks::NamedTask;
-use dataset_gen::jobs::progress_bar;
 use dataset_gen::rng::derive_seed;
 use dataset_gen::sequence::{SequenceSettings, optimise_task};
 use infer::plan::Plan;
-use infer::template::{TaskNetworkFile, TemplateFile, TemplateSettings};
-use infer::{Config, Outcome, Planner, Template, TrenchTask};
+use infer::template::{TemplateFile, TemplateSettings};
+use infer::{Config, Outcome, Planner, Template};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -111,8 +109,9 @@ pub struct WholeTaskRow {
     /// or why the template planner made none.
     #[serde(default)]
     pub templates: Option<Result<PlanSummary, String>>,
-    /// Planned by `plan`'s default, the learned task planner
-    /// ([`LearnedPlanning`]), when run: the plan, or why it made none.
+    /// Planned by `plan`'s default, the learned task planner, from the
+    /// first of the task networks ([`crate::library::LearnedPlanning`]),
+    /// when run: the plan, or why it made none.
     #[serde(default)]
     pub learned: Option<Result<PlanSummary, String>>,
 }
@@ -159,125 +158,6 @@ impl TemplatePlanning {
             .map(|t| t.templates)
             .map_err(|e| format!("{}: {e}", f.display()))
     }
-}
-
-/// The task network `plan` plans from by default (`train_tasks` writes it;
-/// the shipped one is trained on the chained 1,000-task library).
-pub const DEFAULT_TASK_NETWORK: &str = "artifacts/task_network/seed_1.json";
-
-/// The task network a whole-task comparison also plans every task from,
-/// as `plan` does by default: its sequences and the nearest templates (of
-/// [`TemplatePlanning`], when given) as seeds, refitted within the
-/// template planner's bound.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct LearnedPlanning {
-    pub network: std::path::PathBuf,
-}
-
-impl Default for LearnedPlanning {
-    fn default() -> Self {
-        LearnedPlanning {
-            network: DEFAULT_TASK_NETWORK.into(),
-        }
-    }
-}
-
-impl LearnedPlanning {
-    /// Reads the task network file.
-    pub fn load(&self) -> Result<TaskNetworkFile, String> {
-        let f = &self.network;
-        let text = std::fs::read_to_string(f).map_err(|e| format!("{}: {e}", f.display()))?;
-        TaskNetworkFile::from_json(&text).map_err(|e| format!("{}: {e}", f.display()))
-    }
-}
-
-/// Each task's plan (or why there is none) by a real-time planner.
-pub type PlanResults = Vec<Result<Plan, String>>;
-
-/// The templates and the task network the real-time planners plan whole
-/// tasks from, read once, before any work: a missing or bad file is an
-/// error at the start, not after the optimisers have run.
-#[derive(Debug, Default)]
-pub struct Library {
-    templates: Option<(Vec<Template>, TemplateSettings)>,
-    network: Option<TaskNetworkFile>,
-}
-
-impl Library {
-    /// Reads each file given, and checks the task network's shape.
-    pub fn load(
-        templates: Option<&TemplatePlanning>,
-        learned: Option<&LearnedPlanning>,
-    ) -> Result<Self, String> {
-        let templates = match templates {
-            Some(t) => Some((t.load()?, t.settings)),
-            None => None,
-        };
-        let network = learned.map(LearnedPlanning::load).transpose()?;
-        if let (Some(file), Some(l)) = (&network, learned) {
-            file.network()
-                .map_err(|e| format!("{}: {e}", l.network.display()))?;
-        }
-        Ok(Library { templates, network })
-    }
-
-    /// Every task planned from the templates and by the learned task
-    /// planner (seeded by the same templates, with their settings), each
-    /// when given.
-    #[allow(clippy::result_large_err)] // the planners' errors, turned into text at once
-    pub fn plan(
-        &self,
-        planner: &Planner,
-        tasks: &[NamedTask],
-        show_progress: bool,
-    ) -> Result<(Option<PlanResults>, Option<PlanResults>), EvalError> {
-        let (library, settings) = match &self.templates {
-            Some((t, s)) => (t.as_slice(), *s),
-            None => (&[][..], TemplateSettings::default()),
-        };
-        let from_templates = self.templates.as_ref().map(|_| {
-            plan_each(tasks, "templates", show_progress, |task| {
-                planner.plan_from_templates(task, library, &settings)
-            })
-        });
-        let from_network = match &self.network {
-            Some(file) => {
-                let net = file.network()?;
-                Some(plan_each(
-                    tasks,
-                    "learned task planner",
-                    show_progress,
-                    |task| planner.plan_learned_with(task, &net, library, &settings),
-                ))
-            }
-            None => None,
-        };
-        Ok((from_templates, from_network))
-    }
-}
-
-/// Each task planned by `plan_task`, one task after the other on one core
-/// (a controller's view of the planning time); the plan, or why the
-/// planner could not make one.
-fn plan_each(
-    tasks: &[NamedTask],
-    label: &'static str,
-    show_progress: bool,
-    mut plan_task: impl FnMut(&TrenchTask) -> Result<Plan, infer::PlanError>,
-) -> PlanResults {
-    let bar = progress_bar(tasks.len() as u64, "tasks", show_progress);
-    bar.set_message(label);
-    let plans = tasks
-        .iter()
-        .map(|t| {
-            let plan = plan_task(&t.task).map_err(|e| e.to_string());
-            bar.inc(1);
-            plan
-        })
-        .collect();
-    bar.finish_and_clear();
-    plans
 }
 
 /// Each task's digs chosen as one sequence by PSO

@@ -15,7 +15,7 @@ fn bad_input_exits_with_2() {
     let below_the_least = std::env::temp_dir().join(format!("eval-ts-{}.json", std::process::id()));
     std::fs::write(&below_the_least, r#"{"max_evaluations": 10}"#).unwrap();
     let below_the_least = below_the_least.to_str().unwrap();
-    // A missing task network stops the pipeline before it makes its folder.
+    // Missing task networks stop the pipeline before it makes its folder.
     let untouched = std::env::temp_dir().join(format!("eval-untouched-{}", std::process::id()));
     let untouched = untouched.to_str().unwrap();
     for args in [
@@ -30,7 +30,7 @@ fn bad_input_exits_with_2() {
         &["pipeline", "--training-seeds", "1,1"],
         &["pipeline", "--held-out-seed", "1"],
         &["pipeline", "--seed", "5", "--held-out-seed", "5"],
-        &["compare", "--quick", "--task-network", "/nonexistent"],
+        &["compare", "--quick", "--task-networks", "/nonexistent"],
         &[
             "pipeline",
             "--task-network",

@@ -5,9 +5,10 @@ use dataset_gen::sequence::SequenceSettings;
 use eval::baselines::Baseline;
 use eval::digs::{DigRow, compare_digs};
 use eval::evaluation::{Coverage, EvalSettings, evaluate};
+use eval::library::LearnedPlanning;
 use eval::networks::Networks;
 use eval::planning::{PlanRun, run_plan};
-use eval::whole::{LearnedPlanning, PlanSummary, TemplatePlanning, plan_with_optimiser};
+use eval::whole::{PlanSummary, TemplatePlanning, plan_with_optimiser};
 use eval::{output, tasks};
 use indicatif::ProgressBar;
 use infer::{
@@ -274,8 +275,7 @@ fn small_evaluation_writes_every_report_file() {
             },
         }),
         learned: Some(LearnedPlanning {
-            network: Path::new(env!("CARGO_MANIFEST_DIR"))
-                .join("../artifacts/task_network/seed_1.json"),
+            networks: Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/task_network"),
         }),
         ..EvalSettings::default()
     };
@@ -290,6 +290,13 @@ fn small_evaluation_writes_every_report_file() {
         .iter()
         .find(|g| g.what.contains("learned task planner"));
     assert_eq!(learned.map(|g| g.target.as_str()), Some("4 / 4 / ≤ 2 %"));
+    // Every shipped task network plans every task, seed by seed.
+    let seeds: Vec<(u64, usize)> = report
+        .learned_seeds
+        .iter()
+        .map(|t| (t.seed, t.tasks))
+        .collect();
+    assert_eq!(seeds, [(1, 4), (2, 4), (3, 4)]);
     assert_eq!(report.tasks.len(), 5);
     assert_eq!(report.tasks[4].name, "R01");
     assert!(!report.tasks[4].dig_by_dig);

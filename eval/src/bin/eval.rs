@@ -4,9 +4,10 @@
 use clap::{Parser, Subcommand};
 use eval::baselines::Baseline;
 use eval::evaluation::{Coverage, EvalSettings, evaluate};
+use eval::library::LearnedPlanning;
 use eval::networks::Networks;
 use eval::pipeline::{self, PipelineSettings};
-use eval::whole::{LearnedPlanning, TemplatePlanning};
+use eval::whole::TemplatePlanning;
 use eval::{EvalError, benchmarks, output, tables};
 use infer::template::TemplateSettings;
 use std::path::PathBuf;
@@ -54,14 +55,14 @@ struct EvalArgs {
     /// artifacts/templates.json, written by `dataset_gen templates`); `none`: not run.
     #[arg(long)]
     templates: Option<String>,
-    /// The task network every whole task is also planned from, as `plan`
-    /// does by default, seeded by those templates too (default
-    /// artifacts/task_network/seed_1.json, written by `train_tasks`); `none`: not run.
+    /// The task networks (seed_<s>.json, written by `train_tasks`) every
+    /// whole task is also planned from, as `plan` does by default, seeded
+    /// by those templates too (default artifacts/task_network); `none`: not run.
     #[arg(long)]
-    task_network: Option<String>,
+    task_networks: Option<String>,
 }
 
-/// A file argument that may be `none` (the step is not run).
+/// A file or folder argument that may be `none` (the step is not run).
 fn file_or_none(arg: &str) -> Option<PathBuf> {
     (arg != "none").then(|| arg.into())
 }
@@ -84,8 +85,8 @@ impl EvalArgs {
                 ..TemplatePlanning::default()
             });
         }
-        if let Some(arg) = &self.task_network {
-            s.learned = file_or_none(arg).map(|network| LearnedPlanning { network });
+        if let Some(arg) = &self.task_networks {
+            s.learned = file_or_none(arg).map(|networks| LearnedPlanning { networks });
         }
         if let Some(path) = &self.planner {
             s.planner = read_json(path)?;

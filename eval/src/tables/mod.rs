@@ -490,10 +490,16 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
                 || infer::TemplateSettings::default().max_evaluations,
                 |t| t.settings.max_evaluations,
             );
+            let seeds_run: Vec<String> = report
+                .learned_seeds
+                .iter()
+                .map(|t| t.seed.to_string())
+                .collect();
             let _ = writeln!(
                 out,
-                "\n## Whole tasks: the learned task planner (`plan`'s default)\n\nThe task network `{}` (trained by `train_tasks` on the chained plan library; shipped, not retrained by this run) predicts each task's dig sequence in the expected dig count, one fewer and one more; those sequences {seeds} seed the same race and refit as the template planner's, at most {bound} exact dig evaluations per task, every dig checked in continuous time. Over 64 tasks and three training seeds: `eval learned` (`artifacts/learned/report.md`).\n",
-                l.network.display()
+                "\n## Whole tasks: the learned task planner (`plan`'s default)\n\nThe task networks in `{}` (seeds {}; trained by `train_tasks` on the chained plan library, not retrained by this run) predict each task's dig sequence in the expected dig count, one fewer and one more; those sequences {seeds} seed the same race and refit as the template planner's, at most {bound} exact dig evaluations per task, every dig checked in continuous time. The goals above give every seed's totals; the plans below are the first seed's, `plan`'s default. Over 64 tasks: `eval learned` (`artifacts/learned/report.md`).\n",
+                l.networks.display(),
+                seeds_run.join(", ")
             );
             whole_plans_table(&mut out, report, |w| w.learned.as_ref());
         }

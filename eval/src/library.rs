@@ -1,0 +1,192 @@
+//! What the real-time whole-task planners plan from: the stored plans
+//! (templates) and the task networks, read once before any work, and the
+//! learned planner's figures per task network.
+
+use crate::error::EvalError;
+use crate::tasks::NamedTask;
+use crate::whole::{PlanSummary, TemplatePlanning};
+use dataset_gen::jobs::progress_bar;
+use infer::plan::Plan;
+use infer::template::{TaskNetworkFile, TemplateSettings};
+use infer::{Planner, Template, TrenchTask};
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+
+/// The task networks (`seed_<s>.json`, one per training seed, as
+/// `train_tasks` writes them) a whole-task comparison also plans every
+/// task from, as `plan` does by default: each network's sequences and the
+/// nearest templates (of [`TemplatePlanning`], when given) as seeds,
+/// refitted within the template planner's bound. The first seed's is
+/// `plan`'s default.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LearnedPlanning {
+    pub networks: PathBuf,
+}
+
+impl Default for LearnedPlanning {
+    fn default() -> Self {
+        LearnedPlanning {
+            networks: "artifacts/task_network".into(),
+        }
+    }
+}
+
+/// One task network's plans over the whole-task comparison's tasks.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LearnedTotals {
+    pub seed: u64,
+    pub tasks: usize,
+    pub finished: usize,
+    /// Plans whose under- and over-dug areas are each ≤ 3 % of the design.
+    pub within_3_percent: usize,
+    /// Over the finished plans.
+    pub mean_under_dug: f64,
+    pub max_under_dug: f64,
+    pub infeasible_digs: usize,
+}
+
+impl LearnedTotals {
+    fn of(seed: u64, plans: &PlanResults) -> Self {
+        let done: Vec<PlanSummary> = plans
+            .iter()
+            .flatten()
+            .map(|p| PlanSummary::of_plan(p, None))
+            .collect();
+        let within = |p: &&PlanSummary| {
+            p.under_dug <= crate::summary::PROFILE_GOAL
+                && p.over_dug <= crate::summary::PROFILE_GOAL
+        };
+        LearnedTotals {
+            seed,
+            tasks: plans.len(),
+            finished: done.len(),
+            within_3_percent: done.iter().filter(within).count(),
+            mean_under_dug: done.iter().map(|p| p.under_dug).sum::<f64>()
+                / done.len().max(1) as f64,
+            max_under_dug: done.iter().map(|p| p.under_dug).fold(0.0, f64::max),
+            infeasible_digs: done.iter().map(|p| p.infeasible).sum(),
+        }
+    }
+
+    /// Every task finished and within 3 %, mean under-dug ≤ 2 %, no
+    /// infeasible dig (issue 26's goals).
+    pub fn meets_goals(&self) -> bool {
+        self.finished == self.tasks
+            && self.within_3_percent == self.tasks
+            && self.mean_under_dug <= 0.02
+            && self.infeasible_digs == 0
+    }
+}
+
+/// Each task's plan (or why there is none) by a real-time planner.
+pub type PlanResults = Vec<Result<Plan, String>>;
+
+/// What a whole-task comparison planned from the library.
+#[derive(Debug, Default)]
+pub struct LibraryPlans {
+    pub templates: Option<PlanResults>,
+    /// Each task network's plans, by seed.
+    pub learned: Vec<(u64, PlanResults)>,
+}
+
+impl LibraryPlans {
+    /// `plan`'s default: the first task network's plans.
+    pub fn default_learned(&self) -> Option<&PlanResults> {
+        self.learned.first().map(|(_, p)| p)
+    }
+
+    pub fn learned_totals(&self) -> Vec<LearnedTotals> {
+        self.learned
+            .iter()
+            .map(|(seed, p)| LearnedTotals::of(*seed, p))
+            .collect()
+    }
+}
+
+/// The templates and the task networks the real-time planners plan whole
+/// tasks from, read once, before any work: a missing or bad file is an
+/// error at the start, not after the optimisers have run.
+#[derive(Debug, Default)]
+pub struct Library {
+    templates: Option<(Vec<Template>, TemplateSettings)>,
+    networks: Vec<TaskNetworkFile>,
+}
+
+impl Library {
+    /// Reads each file given, and checks the task networks' shapes.
+    pub fn load(
+        templates: Option<&TemplatePlanning>,
+        learned: Option<&LearnedPlanning>,
+    ) -> Result<Self, EvalError> {
+        let templates = match templates {
+            Some(t) => Some((t.load().map_err(EvalError::BadArgument)?, t.settings)),
+            None => None,
+        };
+        let networks = match learned {
+            Some(l) => crate::learned::load_networks(&l.networks)?,
+            None => Vec::new(),
+        };
+        for file in &networks {
+            file.network()?;
+        }
+        Ok(Library {
+            templates,
+            networks,
+        })
+    }
+
+    /// Every task planned from the templates and by the learned task
+    /// planner from each task network (seeded by the same templates, with
+    /// their settings), each when given.
+    #[allow(clippy::result_large_err)] // the planners' errors, turned into text at once
+    pub fn plan(
+        &self,
+        planner: &Planner,
+        tasks: &[NamedTask],
+        show_progress: bool,
+    ) -> Result<LibraryPlans, EvalError> {
+        let (library, settings) = match &self.templates {
+            Some((t, s)) => (t.as_slice(), *s),
+            None => (&[][..], TemplateSettings::default()),
+        };
+        let templates = self.templates.as_ref().map(|_| {
+            plan_each(tasks, "templates".into(), show_progress, |task| {
+                planner.plan_from_templates(task, library, &settings)
+            })
+        });
+        let mut learned = Vec::new();
+        for file in &self.networks {
+            let net = file.network()?;
+            let label = format!("learned task planner, seed {}", file.seed);
+            let plans = plan_each(tasks, label, show_progress, |task| {
+                planner.plan_learned_with(task, &net, library, &settings)
+            });
+            learned.push((file.seed, plans));
+        }
+        Ok(LibraryPlans { templates, learned })
+    }
+}
+
+/// Each task planned by `plan_task`, one task after the other on one core
+/// (a controller's view of the planning time); the plan, or why the
+/// planner could not make one.
+fn plan_each(
+    tasks: &[NamedTask],
+    label: String,
+    show_progress: bool,
+    mut plan_task: impl FnMut(&TrenchTask) -> Result<Plan, infer::PlanError>,
+) -> PlanResults {
+    let bar = progress_bar(tasks.len() as u64, "tasks", show_progress);
+    bar.set_message(label);
+    let plans = tasks
+        .iter()
+        .map(|t| {
+            let plan = plan_task(&t.task).map_err(|e| e.to_string());
+            bar.inc(1);
+            plan
+        })
+        .collect();
+    bar.finish_and_clear();
+    plans
+}
