@@ -3,6 +3,7 @@
 //! learned planner's figures per task network.
 
 use crate::error::EvalError;
+use crate::learned::{PlannerTotals, totals};
 use crate::tasks::NamedTask;
 use crate::whole::{PlanSummary, TemplatePlanning};
 use dataset_gen::jobs::progress_bar;
@@ -33,49 +34,21 @@ impl Default for LearnedPlanning {
 }
 
 /// One task network's plans over the whole-task comparison's tasks.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct LearnedTotals {
     pub seed: u64,
-    pub tasks: usize,
-    pub finished: usize,
-    /// Plans whose under- and over-dug areas are each ≤ 3 % of the design.
-    pub within_3_percent: usize,
-    /// Over the finished plans.
-    pub mean_under_dug: f64,
-    pub max_under_dug: f64,
-    pub infeasible_digs: usize,
+    pub totals: PlannerTotals,
 }
 
 impl LearnedTotals {
-    fn of(seed: u64, plans: &PlanResults) -> Self {
-        let done: Vec<PlanSummary> = plans
-            .iter()
-            .flatten()
-            .map(|p| PlanSummary::of_plan(p, None))
-            .collect();
-        let within = |p: &&PlanSummary| {
-            p.under_dug <= crate::summary::PROFILE_GOAL
-                && p.over_dug <= crate::summary::PROFILE_GOAL
-        };
-        LearnedTotals {
-            seed,
-            tasks: plans.len(),
-            finished: done.len(),
-            within_3_percent: done.iter().filter(within).count(),
-            mean_under_dug: done.iter().map(|p| p.under_dug).sum::<f64>()
-                / done.len().max(1) as f64,
-            max_under_dug: done.iter().map(|p| p.under_dug).fold(0.0, f64::max),
-            infeasible_digs: done.iter().map(|p| p.infeasible).sum(),
-        }
-    }
-
     /// Every task finished and within 3 %, mean under-dug ≤ 2 %, no
     /// infeasible dig (issue 26's goals).
     pub fn meets_goals(&self) -> bool {
-        self.finished == self.tasks
-            && self.within_3_percent == self.tasks
-            && self.mean_under_dug <= 0.02
-            && self.infeasible_digs == 0
+        let t = &self.totals;
+        t.finished == t.tasks
+            && t.within_3_percent == t.tasks
+            && t.mean_under_dug <= 0.02
+            && t.infeasible_digs == 0
     }
 }
 
@@ -99,7 +72,20 @@ impl LibraryPlans {
     pub fn learned_totals(&self) -> Vec<LearnedTotals> {
         self.learned
             .iter()
-            .map(|(seed, p)| LearnedTotals::of(*seed, p))
+            .map(|(seed, plans)| {
+                let results: Vec<Result<PlanSummary, String>> = plans
+                    .iter()
+                    .map(|r| {
+                        r.as_ref()
+                            .map(|p| PlanSummary::of_plan(p, None))
+                            .map_err(Clone::clone)
+                    })
+                    .collect();
+                LearnedTotals {
+                    seed: *seed,
+                    totals: totals(&format!("learned seed {seed}"), results.iter()),
+                }
+            })
             .collect()
     }
 }

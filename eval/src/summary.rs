@@ -5,6 +5,7 @@
 
 use crate::digs::DigRow;
 use crate::evaluation::TaskReport;
+use crate::learned::PlannerTotals;
 use crate::library::LearnedTotals;
 use crate::planning::{PlanFailure, PlanRun};
 use crate::tasks::is_reference;
@@ -304,12 +305,18 @@ fn profile_goal(tasks: &[TaskReport], whole: &[WholeTaskRow]) -> Goal {
 /// 3 % under- and over-dug, mean under-dug ≤ 2 %, no infeasible dig; met
 /// when every seed meets them. `None` where it did not run.
 fn learned_goal(seeds: &[LearnedTotals]) -> Option<Goal> {
-    let n = seeds.first()?.tasks;
-    let each =
-        |f: &dyn Fn(&LearnedTotals) -> String| seeds.iter().map(f).collect::<Vec<_>>().join(" / ");
-    let names = each(&|t| t.seed.to_string());
-    let worst = seeds.iter().map(|t| t.max_under_dug).fold(0.0, f64::max);
-    let infeasible: usize = seeds.iter().map(|t| t.infeasible_digs).sum();
+    let n = seeds.first()?.totals.tasks;
+    let each = |f: &dyn Fn(&PlannerTotals) -> String| {
+        let figures: Vec<String> = seeds.iter().map(|s| f(&s.totals)).collect();
+        figures.join(" / ")
+    };
+    let names: Vec<String> = seeds.iter().map(|s| s.seed.to_string()).collect();
+    let names = names.join(" / ");
+    let worst = seeds
+        .iter()
+        .map(|s| s.totals.max_under_dug)
+        .fold(0.0, f64::max);
+    let infeasible: usize = seeds.iter().map(|s| s.totals.infeasible_digs).sum();
     Some(Goal {
         what: format!(
             "tasks the learned task planner (`plan`'s default, from the task networks of seeds {names}) finishes / plans within 3 % under- and over-dug / mean under-dug, each seed"
@@ -489,12 +496,19 @@ mod tests {
     fn totals(seed: u64, finished: usize, within: usize, mean: f64) -> LearnedTotals {
         LearnedTotals {
             seed,
-            tasks: 24,
-            finished,
-            within_3_percent: within,
-            mean_under_dug: mean,
-            max_under_dug: 0.028,
-            infeasible_digs: 0,
+            totals: PlannerTotals {
+                planner: format!("learned seed {seed}"),
+                tasks: 24,
+                finished,
+                within_3_percent: within,
+                mean_under_dug: mean,
+                max_under_dug: 0.028,
+                max_over_dug: 0.01,
+                median_planning_ms: 90.0,
+                max_planning_ms: 120.0,
+                infeasible_digs: 0,
+                network_won: None,
+            },
         }
     }
 
@@ -514,9 +528,10 @@ mod tests {
             totals(2, 23, 23, 0.019),
             totals(2, 24, 23, 0.019),
             totals(2, 24, 24, 0.021),
-            LearnedTotals {
-                infeasible_digs: 1,
-                ..totals(2, 24, 24, 0.019)
+            {
+                let mut t = totals(2, 24, 24, 0.019);
+                t.totals.infeasible_digs = 1;
+                t
             },
         ] {
             assert_eq!(met(&[good[0].clone(), short]), Some(false));

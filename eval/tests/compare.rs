@@ -294,7 +294,7 @@ fn small_evaluation_writes_every_report_file() {
     let seeds: Vec<(u64, usize)> = report
         .learned_seeds
         .iter()
-        .map(|t| (t.seed, t.tasks))
+        .map(|t| (t.seed, t.totals.tasks))
         .collect();
     assert_eq!(seeds, [(1, 4), (2, 4), (3, 4)]);
     assert_eq!(report.tasks.len(), 5);

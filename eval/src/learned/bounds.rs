@@ -92,7 +92,7 @@ pub fn sweep(
             points.push(BoundPoint {
                 seed: file.seed,
                 max_evaluations: b,
-                totals: totals(&name, rows.iter()),
+                totals: totals(&name, rows.iter().map(|r| &r.result)),
             });
         }
     }

@@ -190,7 +190,10 @@ pub fn compare(
     }
     let totals: Vec<PlannerTotals> = names
         .iter()
-        .map(|n| totals(n, rows.iter().filter(|r| &r.planner == n)))
+        .map(|n| {
+            let results = rows.iter().filter(|r| &r.planner == n).map(|r| &r.result);
+            totals(n, results)
+        })
         .collect();
     let of = |name: String| totals.iter().find(|t| t.planner == name).cloned();
     let seeds = networks
@@ -294,11 +297,16 @@ fn row(
     }
 }
 
-fn totals<'a>(name: &str, rows: impl Iterator<Item = &'a LearnedRow>) -> PlannerTotals {
-    let rows: Vec<&LearnedRow> = rows.collect();
+/// A planner's totals over its plans of a task set (each the plan's
+/// figures, or why there is none).
+pub(crate) fn totals<'a>(
+    name: &str,
+    results: impl Iterator<Item = &'a Result<PlanSummary, String>>,
+) -> PlannerTotals {
+    let rows: Vec<&Result<PlanSummary, String>> = results.collect();
     let done: Vec<&PlanSummary> = rows
         .iter()
-        .filter_map(|r| r.result.as_ref().ok())
+        .filter_map(|r| r.as_ref().ok())
         .filter(|s| s.complete)
         .collect();
     let mut ms: Vec<f64> = done.iter().map(|s| s.planning_seconds * 1e3).collect();
@@ -341,6 +349,10 @@ mod tests {
             "fitted": 0, "templated": 3, "infeasible": 0
         }))
         .unwrap()
+    }
+
+    fn results(rows: &[LearnedRow]) -> impl Iterator<Item = &Result<PlanSummary, String>> {
+        rows.iter().map(|r| &r.result)
     }
 
     fn row(task: &str, planner: &str, result: Result<PlanSummary, String>) -> LearnedRow {
@@ -408,7 +420,10 @@ mod tests {
         let report = LearnedReport {
             command: "test".into(),
             tasks: Vec::new(),
-            totals: vec![totals("good", rows.iter()), totals("poor", more.iter())],
+            totals: vec![
+                totals("good", results(&rows)),
+                totals("poor", results(&more)),
+            ],
             seeds: Vec::new(),
             pso: Vec::new(),
             rows: rows.into_iter().chain(more).collect(),
@@ -436,8 +451,8 @@ mod tests {
             command: "test".into(),
             tasks: Vec::new(),
             totals: vec![
-                totals("least", rows[..5].iter()),
-                totals("full", rows[5..].iter()),
+                totals("least", results(&rows[..5])),
+                totals("full", results(&rows[5..])),
             ],
             seeds: Vec::new(),
             pso: Vec::new(),
@@ -476,8 +491,8 @@ mod tests {
             tasks: Vec::new(),
             totals: Vec::new(),
             seeds: vec![
-                seed(1, totals("1", all.iter())),
-                seed(2, totals("2", one_off.iter())),
+                seed(1, totals("1", results(&all))),
+                seed(2, totals("2", results(&one_off))),
             ],
             pso: Vec::new(),
             rows: Vec::new(),
