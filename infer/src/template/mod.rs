@@ -32,7 +32,7 @@ mod fit;
 pub mod learned;
 mod polish;
 mod repair;
-mod search;
+pub mod search;
 mod work;
 
 #[cfg(feature = "std")]
