@@ -387,13 +387,6 @@ fn run(cli: Cli) -> Result<(), EvalError> {
             fresh_seed,
             out,
         } => {
-            if let Ok(f) = std::env::var("GROW_RETRY") {
-                let t =
-                    infer::template::TemplateFile::from_json(&std::fs::read_to_string(f).unwrap())
-                        .unwrap()
-                        .templates;
-                infer::template::search::RETRY_TEMPLATES.set(t).unwrap();
-            }
             let settings: TemplateSettings = match &template_settings {
                 None => TemplateSettings::default(),
                 Some(path) => {

@@ -32,7 +32,7 @@ mod fit;
 pub mod learned;
 mod polish;
 mod repair;
-pub mod search;
+mod search;
 mod work;
 
 #[cfg(feature = "std")]

@@ -129,11 +129,6 @@ impl TemplateWork {
             max_evaluations: settings.retry - reserve,
             ..*settings
         };
-        #[cfg(feature = "std")]
-        let source = match (source, RETRY_TEMPLATES.get()) {
-            (Source::Network(net, _), Some(t)) => Source::Network(net, t.as_slice()),
-            (s, _) => s,
-        };
         let second = self.attempt(planner, task, source, &again);
         self.evaluations += spent;
         match kept {
@@ -382,8 +377,3 @@ pub(super) fn last_stage(settings: &TemplateSettings) -> usize {
 pub(super) fn retiming(settings: &TemplateSettings) -> usize {
     if settings.retime { 2 } else { 0 }
 }
-
-/// Probe: the templates a retry takes instead of the first attempt's.
-#[cfg(feature = "std")]
-pub static RETRY_TEMPLATES: std::sync::OnceLock<std::vec::Vec<Template>> =
-    std::sync::OnceLock::new();
