@@ -363,11 +363,6 @@ pub fn evaluate(
     bar.finish_and_clear();
 
     let stored = library.plan(&planner, &in_loop, show_progress)?;
-    let summary_of = |r: &Result<Plan, String>| {
-        r.as_ref()
-            .map(|p| PlanSummary::of_plan(p, None))
-            .map_err(Clone::clone)
-    };
 
     let mut whole = Vec::new();
     let mut plans = Vec::new();
@@ -390,9 +385,9 @@ pub fn evaluate(
                 network: network.clone(),
                 optimiser: PlanSummary::of(o),
                 optimiser_calls: *calls,
-                sequence: sequence.map(summary_of),
-                templates: templates.map(summary_of),
-                learned: learned.map(summary_of),
+                sequence: sequence.map(PlanSummary::of_result),
+                templates: templates.map(PlanSummary::of_result),
+                learned: learned.map(PlanSummary::of_result),
             });
         }
         plans.push(TaskPlans {

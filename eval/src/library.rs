@@ -73,14 +73,8 @@ impl LibraryPlans {
         self.learned
             .iter()
             .map(|(seed, plans)| {
-                let results: Vec<Result<PlanSummary, String>> = plans
-                    .iter()
-                    .map(|r| {
-                        r.as_ref()
-                            .map(|p| PlanSummary::of_plan(p, None))
-                            .map_err(Clone::clone)
-                    })
-                    .collect();
+                let results: Vec<Result<PlanSummary, String>> =
+                    plans.iter().map(PlanSummary::of_result).collect();
                 LearnedTotals {
                     seed: *seed,
                     totals: totals(&format!("learned seed {seed}"), results.iter()),

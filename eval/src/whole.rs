@@ -59,6 +59,13 @@ impl PlanSummary {
         Self::of_plan(&run.plan, run.failure.clone())
     }
 
+    /// A real-time planner's plan summarised, or why it made none.
+    pub fn of_result(r: &Result<Plan, String>) -> Result<Self, String> {
+        r.as_ref()
+            .map(|p| PlanSummary::of_plan(p, None))
+            .map_err(Clone::clone)
+    }
+
     /// A plan's summary; `failure`: why it ended before the task was done.
     pub fn of_plan(plan: &Plan, failure: Option<PlanFailure>) -> Self {
         let digs: Vec<_> = plan.digs.iter().map(|r| &r.dig).collect();
