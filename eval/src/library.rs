@@ -8,7 +8,7 @@ use crate::tasks::NamedTask;
 use crate::whole::{PlanSummary, TemplatePlanning};
 use dataset_gen::jobs::progress_bar;
 use infer::plan::Plan;
-use infer::template::{TaskNetworkFile, TemplateSettings};
+use infer::template::{SeedTemplates, TaskNetworkFile, TemplateSettings};
 use infer::{Planner, Template, TrenchTask};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
@@ -17,18 +17,22 @@ use std::path::PathBuf;
 /// `train_tasks` writes them) a whole-task comparison also plans every
 /// task from, as `plan` does by default: each network's sequences and the
 /// nearest templates (of [`TemplatePlanning`], when given) as seeds,
-/// refitted within the template planner's bound. The first seed's is
-/// `plan`'s default.
+/// refitted within the template planner's bound, a miss retried from the
+/// nearest of `retry_templates`. The first seed's is `plan`'s default.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct LearnedPlanning {
     pub networks: PathBuf,
+    /// The templates a second attempt is seeded by
+    /// (`dataset_gen grow-templates`); `None`: the template planner's.
+    pub retry_templates: Option<PathBuf>,
 }
 
 impl Default for LearnedPlanning {
     fn default() -> Self {
         LearnedPlanning {
             networks: "artifacts/task_network".into(),
+            retry_templates: Some("artifacts/templates_grown.json".into()),
         }
     }
 }
@@ -90,6 +94,8 @@ impl LibraryPlans {
 #[derive(Debug, Default)]
 pub struct Library {
     templates: Option<(Vec<Template>, TemplateSettings)>,
+    /// The learned planner's second attempt's seeds, if not the templates.
+    retry_templates: Option<Vec<Template>>,
     networks: Vec<TaskNetworkFile>,
 }
 
@@ -110,8 +116,20 @@ impl Library {
         for file in &networks {
             file.network()?;
         }
+        let retry_templates = match learned.and_then(|l| l.retry_templates.as_ref()) {
+            Some(file) => Some(
+                TemplatePlanning {
+                    file: file.clone(),
+                    ..TemplatePlanning::default()
+                }
+                .load()
+                .map_err(EvalError::BadArgument)?,
+            ),
+            None => None,
+        };
         Ok(Library {
             templates,
+            retry_templates,
             networks,
         })
     }
@@ -139,8 +157,12 @@ impl Library {
         for file in &self.networks {
             let net = file.network()?;
             let label = format!("learned task planner, seed {}", file.seed);
+            let seeds = SeedTemplates {
+                first: library,
+                retry: self.retry_templates.as_deref().unwrap_or(library),
+            };
             let plans = plan_each(tasks, label, show_progress, |task| {
-                planner.plan_learned_with(task, &net, library, &settings)
+                planner.plan_learned_with(task, &net, seeds, &settings)
             });
             learned.push((file.seed, plans));
         }

@@ -31,6 +31,15 @@ fn bad_input_exits_with_2() {
         &["pipeline", "--held-out-seed", "1"],
         &["pipeline", "--seed", "5", "--held-out-seed", "5"],
         &["compare", "--quick", "--task-networks", "/nonexistent"],
+        &["compare", "--quick", "--retry-templates", "/nonexistent"],
+        &[
+            "compare",
+            "--task-networks",
+            "none",
+            "--retry-templates",
+            "same",
+        ],
+        &["learned", "--retry-templates", "/nonexistent"],
         &[
             "pipeline",
             "--task-network",

@@ -271,11 +271,15 @@ fn small_evaluation_writes_every_report_file() {
             settings: infer::TemplateSettings {
                 neighbours: 2,
                 max_evaluations: 150,
+                retry: 150,
                 ..Default::default()
             },
         }),
         learned: Some(LearnedPlanning {
             networks: Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/task_network"),
+            retry_templates: Some(
+                Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/templates_grown.json"),
+            ),
         }),
         ..EvalSettings::default()
     };

@@ -16,15 +16,15 @@
 //!   N; the work is allocated once, as a controller would.
 //! - `learned_task_X[_N]`: the learned planner as `plan` runs it
 //!   (`artifacts/task_network/seed_1.json`, the nearest of the shipped
-//!   templates seeding it too): its sequences checked and refitted within
-//!   the least bound (100 exact evaluations) and within N (9,600: the
-//!   default).
+//!   templates seeding it too, a miss retried from the grown ones): its
+//!   sequences checked and refitted within the least bound (100 exact
+//!   evaluations) and within N (9,600: the default).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use infer::network::NetworkFile;
 use infer::repair::assess;
 use infer::template::{
-    MIN_EVALUATIONS, TaskNetworkFile, TemplateFile, TemplateSettings, TemplateWork,
+    MIN_EVALUATIONS, SeedTemplates, TaskNetworkFile, TemplateFile, TemplateSettings, TemplateWork,
 };
 use infer::{
     CarveBuffer, Config, DigParams, DigType, Ground, NetworkPair, Planner, PlannerSettings,
@@ -135,8 +135,15 @@ fn bench(c: &mut Criterion) {
 }
 
 fn shipped_templates() -> Vec<infer::Template> {
+    shipped("templates.json")
+}
+
+/// `artifacts/NAME`, a template file.
+fn shipped(name: &str) -> Vec<infer::Template> {
     let text = std::fs::read_to_string(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/templates.json"),
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../artifacts")
+            .join(name),
     )
     .expect("the bench needs the shipped templates");
     TemplateFile::from_json(&text).unwrap().templates
@@ -155,6 +162,12 @@ fn bench_learned(c: &mut Criterion) {
     let file = TaskNetworkFile::from_json(&text).unwrap();
     let net = file.network().unwrap();
     let templates = shipped_templates();
+    let grown = shipped("templates_grown.json");
+    // As `plan` seeds it.
+    let seeds = SeedTemplates {
+        first: &templates,
+        retry: &grown,
+    };
     let planner = Planner::new(&Config::default(), &PlannerSettings::default()).unwrap();
     let mut work = Box::new(TemplateWork::new(&planner).unwrap());
     let bounds = [
@@ -173,8 +186,7 @@ fn bench_learned(c: &mut Criterion) {
             c.bench_function(&format!("learned_task_{name}{suffix}"), |b| {
                 b.iter(|| {
                     let task = black_box(&task);
-                    black_box(work.plan_learned_with(&planner, task, &net, &templates, &settings))
-                        .ok();
+                    black_box(work.plan_learned_with(&planner, task, &net, seeds, &settings)).ok();
                     black_box(work.len())
                 })
             });

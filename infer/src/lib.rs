@@ -71,7 +71,7 @@ pub use planner::{PlanError, PlanState, PlannedDig, Planner, PlannerSettings};
 pub use predictor::{Checked, DigPredictor, NetworkPair, RefinePredictor, SurfaceMatched};
 pub use query::{DigQuery, QueryRanges};
 pub use repair::{Outcome, RepairSettings};
-pub use template::{Template, TemplateSettings, TemplateWork};
+pub use template::{SeedTemplates, Template, TemplateSettings, TemplateWork};
 pub use terrain::{CarveBuffer, Terrain};
 pub use trajectory::{DigParams, JointState, Trajectory};
 pub use trench::{DesignProfile, ProfileMetrics, TaskError, TrenchTask};

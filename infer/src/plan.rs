@@ -7,7 +7,7 @@
 use crate::kinematics::LinkFrames;
 use crate::planner::{PlanError, PlannedDig, Planner};
 use crate::predictor::DigPredictor;
-use crate::template::{TaskNetwork, Template, TemplateSettings, TemplateWork};
+use crate::template::{SeedTemplates, TaskNetwork, Template, TemplateSettings, TemplateWork};
 use crate::terrain::Terrain;
 use crate::trajectory::Trajectory;
 use crate::trench::{DesignProfile, ProfileMetrics, TrenchTask};
@@ -70,6 +70,9 @@ pub enum Origin {
     Network { digs: usize },
     /// This stored plan (index into the templates given), carried over.
     Template { index: usize },
+    /// This stored plan of a learned plan's retry templates
+    /// ([`crate::template::SeedTemplates::retry`]), carried over.
+    RetryTemplate { index: usize },
 }
 
 impl core::fmt::Display for Origin {
@@ -77,6 +80,9 @@ impl core::fmt::Display for Origin {
         match self {
             Origin::Network { digs } => write!(f, "the task network's {digs}-dig sequence"),
             Origin::Template { index } => write!(f, "template {index} (counted from 0)"),
+            Origin::RetryTemplate { index } => {
+                write!(f, "retry template {index} (counted from 0)")
+            }
         }
     }
 }
@@ -194,7 +200,7 @@ impl Planner {
         network: &TaskNetwork<'_>,
         settings: &TemplateSettings,
     ) -> Result<Plan, PlanError> {
-        self.plan_learned_with(task, network, &[], settings)
+        self.plan_learned_with(task, network, SeedTemplates::NONE, settings)
     }
 
     /// [`Self::plan_learned`], the nearest of `templates` seeding the
@@ -203,15 +209,16 @@ impl Planner {
         &self,
         task: &TrenchTask,
         network: &TaskNetwork<'_>,
-        templates: &[Template],
+        templates: SeedTemplates<'_>,
         settings: &TemplateSettings,
     ) -> Result<Plan, PlanError> {
         let clock = std::time::Instant::now();
         let mut work = Box::new(TemplateWork::new(self)?);
         work.plan_learned_with(self, task, network, templates, settings)?;
-        let origin = match work.seed() {
-            0 => Origin::Network { digs: work.len() },
-            i => Origin::Template { index: i - 1 },
+        let origin = match (work.seed(), work.retried()) {
+            (0, _) => Origin::Network { digs: work.len() },
+            (i, false) => Origin::Template { index: i - 1 },
+            (i, true) => Origin::RetryTemplate { index: i - 1 },
         };
         Ok(self.plan_of(&mut work, task, origin, clock))
     }

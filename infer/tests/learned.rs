@@ -7,7 +7,8 @@ use infer::plan::Origin;
 use infer::sequence::{DIG_VARS, SPEC_VARS};
 use infer::template::learned::{SKEWED_TASK_OUTPUTS, TASK_INPUTS, TASK_OUTPUTS, box_coordinates};
 use infer::template::{
-    MIN_EVALUATIONS, TaskNetwork, TaskNetworkFile, TemplateSettings, TemplateWork,
+    MAX_TEMPLATE_DIGS, MIN_EVALUATIONS, SeedTemplates, TaskNetwork, TaskNetworkFile,
+    TemplateSettings, TemplateWork,
 };
 use infer::{Config, DesignProfile, Planner, PlannerSettings, TrenchTask};
 
@@ -129,7 +130,10 @@ fn a_learned_plan_is_feasible_bounded_repeatable_and_allocation_free() {
     // Replayed from flat ground, every dig holds under the exact model.
     assert_eq!(plan.verify(&planner).unwrap(), plan.metrics);
     let spent: usize = plan.digs.iter().map(|r| r.dig.evaluations).sum();
-    assert!(spent <= settings.max_evaluations, "{spent} evaluations");
+    assert!(
+        spent <= settings.max_evaluations + settings.retry,
+        "{spent} evaluations"
+    );
     let again = planner.plan_learned(&task, &net, &settings).unwrap();
     assert_eq!(
         serde_json::to_value(&plan.digs).unwrap(),
@@ -213,16 +217,18 @@ fn templates_seed_the_learned_refit_too() {
     let task = TrenchTask::reference('A').unwrap();
     let settings = TemplateSettings {
         max_evaluations: 1200,
+        retry: 0,
         ..TemplateSettings::default()
     };
     let mut work = Box::new(TemplateWork::new(&planner).unwrap());
     let before = allocations();
-    work.plan_learned_with(&planner, &task, &net, &templates, &settings)
+    let seeds = SeedTemplates::same(&templates);
+    work.plan_learned_with(&planner, &task, &net, seeds, &settings)
         .unwrap();
     assert_eq!(allocations(), before, "plan_learned_with allocated");
     assert!(work.seed() > 0, "the network's seed won");
     let plan = planner
-        .plan_learned_with(&task, &net, &templates, &settings)
+        .plan_learned_with(&task, &net, seeds, &settings)
         .unwrap();
     assert_eq!(plan.verify(&planner).unwrap(), plan.metrics);
     // The plan records the template it grew from, and keeps it in JSON.
@@ -236,9 +242,57 @@ fn templates_seed_the_learned_refit_too() {
     assert_eq!(read.origin, plan.origin);
 }
 
-/// At the least bound, with the most seeds (the network's counts and 4
-/// templates, racing 3 rounds) and up to 6 digs, the exact evaluations
-/// stay within the bound whether the task is planned or not.
+/// A miss is planned again from the retry's templates: a network whose
+/// every answer is its box's middle, alone in the first attempt, and the
+/// shipped templates in the second. The plan names the retry template it
+/// grew from, replays, and no heap is used.
+#[test]
+fn a_miss_is_retried_from_the_retry_templates() {
+    let planner = planner();
+    let (widths, params) = constant_network(&[0.5; SKEWED_TASK_OUTPUTS]);
+    let net = TaskNetwork::new(&widths, &params).unwrap();
+    let templates = shipped_templates();
+    let task = TrenchTask::reference('A').unwrap();
+    let seeds = SeedTemplates {
+        first: &[],
+        retry: &templates,
+    };
+    let settings = TemplateSettings {
+        max_evaluations: MIN_EVALUATIONS,
+        retry: 600,
+        ..TemplateSettings::default()
+    };
+    let mut work = Box::new(TemplateWork::new(&planner).unwrap());
+    let before = allocations();
+    work.plan_learned_with(&planner, &task, &net, seeds, &settings)
+        .unwrap();
+    assert_eq!(allocations(), before, "a retried plan allocated");
+    assert!(
+        work.retried() && work.seed() > 0,
+        "the retry's template won"
+    );
+    assert!(work.evaluations() <= settings.max_evaluations + settings.retry);
+    let plan = planner
+        .plan_learned_with(&task, &net, seeds, &settings)
+        .unwrap();
+    assert_eq!(plan.verify(&planner).unwrap(), plan.metrics);
+    assert_eq!(
+        plan.origin,
+        Some(Origin::RetryTemplate {
+            index: work.seed() - 1
+        })
+    );
+    // The network's seeds alone do worse: why the retry won.
+    let alone = planner
+        .plan_learned_with(&task, &net, SeedTemplates::NONE, &settings)
+        .map_or(f64::INFINITY, |p| p.metrics.under_dug + p.metrics.over_dug);
+    assert!(plan.metrics.under_dug + plan.metrics.over_dug < alone);
+}
+
+/// At the least bound and the least retry, with the most seeds (the
+/// network's counts and 4 templates, racing 3 rounds) and up to 6 digs,
+/// the exact evaluations stay within the two whether the task is planned
+/// or not.
 #[test]
 fn the_least_bound_holds_with_every_seed_racing() {
     let planner = planner();
@@ -247,17 +301,19 @@ fn the_least_bound_holds_with_every_seed_racing() {
     let templates = shipped_templates();
     let settings = TemplateSettings {
         max_evaluations: MIN_EVALUATIONS,
+        retry: MIN_EVALUATIONS + MAX_TEMPLATE_DIGS,
         ..TemplateSettings::default()
     };
     let wide = TrenchTask::new_deg(0.85, 0.2, 45.0, 45.0);
     let deep = TrenchTask::new_deg(0.85, 0.2, 75.0, 75.0);
     assert!(planner.digs_for(&wide).unwrap() >= 5);
+    let seeds = SeedTemplates::same(&templates);
     let mut work = Box::new(TemplateWork::new(&planner).unwrap());
     let reference = ['A', 'B', 'C', 'D'].map(|c| TrenchTask::reference(c).unwrap());
     for task in reference.into_iter().chain([wide, deep]) {
-        let _ = work.plan_learned_with(&planner, &task, &net, &templates, &settings);
+        let _ = work.plan_learned_with(&planner, &task, &net, seeds, &settings);
         assert!(
-            work.evaluations() <= MIN_EVALUATIONS,
+            work.evaluations() <= settings.max_evaluations + settings.retry,
             "{task:?}: {} evaluations",
             work.evaluations()
         );

@@ -106,6 +106,22 @@ fn bad_tasks_and_missing_networks_are_clear_errors() {
             ],
             "/nonexistent",
         ),
+        (
+            &[
+                "--task",
+                "A",
+                "--learned",
+                concat!(
+                    env!("CARGO_MANIFEST_DIR"),
+                    "/../artifacts/task_network/seed_1.json"
+                ),
+                "--seed-templates",
+                concat!(env!("CARGO_MANIFEST_DIR"), "/../artifacts/templates.json"),
+                "--retry-templates",
+                "/nonexistent",
+            ],
+            "the templates seeding a retry",
+        ),
     ];
     for (args, message) in cases {
         let o = plan(&[*args, &["-o", out]].concat());
@@ -253,7 +269,11 @@ fn templates_plan_verifies_and_falls_back_to_the_networks() {
 
     // One seed and the least budget: task D's template plan stays infeasible.
     let settings = dir.join("t.json");
-    std::fs::write(&settings, r#"{"neighbours": 1, "max_evaluations": 100}"#).unwrap();
+    std::fs::write(
+        &settings,
+        r#"{"neighbours": 1, "max_evaluations": 100, "retry": 0}"#,
+    )
+    .unwrap();
     let args = [
         "--task",
         "D",
@@ -306,6 +326,8 @@ fn learned_plan_verifies_or_falls_back_to_the_networks() {
         &network,
         "--seed-templates",
         &templates,
+        "--retry-templates",
+        "same",
         "--networks",
         artifacts,
         "-o",
@@ -325,7 +347,7 @@ fn learned_plan_verifies_or_falls_back_to_the_networks() {
     // The least bound: the shipped seed-1 network's seeds alone do not
     // plan A (artifacts/learned/report.md), so `plan` says why and falls back.
     let settings = dir.join("t.json");
-    std::fs::write(&settings, r#"{"max_evaluations": 100}"#).unwrap();
+    std::fs::write(&settings, r#"{"max_evaluations": 100, "retry": 0}"#).unwrap();
     let s = settings.to_str().unwrap();
     let o = plan(&[
         "--task",
@@ -334,6 +356,8 @@ fn learned_plan_verifies_or_falls_back_to_the_networks() {
         &network,
         "--seed-templates",
         "none",
+        "--retry-templates",
+        "same",
         "--template-settings",
         s,
         "--networks",

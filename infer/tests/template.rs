@@ -30,11 +30,12 @@ fn planner() -> Planner {
     Planner::new(&Config::default(), &PlannerSettings::default()).unwrap()
 }
 
-/// A smaller budget than the default, for the tests.
+/// A smaller budget than the default and no retry, for the tests.
 fn quick() -> TemplateSettings {
     TemplateSettings {
         neighbours: 2,
         max_evaluations: 600,
+        retry: 0,
         ..TemplateSettings::default()
     }
 }
@@ -216,6 +217,7 @@ fn a_plan_too_fast_for_its_limits_is_retimed_before_it_is_given_up() {
     let least = TemplateSettings {
         neighbours: 1,
         max_evaluations: 100,
+        retry: 0,
         ..TemplateSettings::default()
     };
     let unretimed = TemplateSettings {
@@ -237,6 +239,7 @@ fn a_plan_outside_the_tolerance_is_retried_and_the_better_kept() {
     let once = TemplateSettings {
         neighbours: 2,
         max_evaluations: 100,
+        retry: 0,
         ..TemplateSettings::default()
     };
     let first = p.plan_from_templates(&task, &templates, &once).unwrap();
@@ -309,7 +312,10 @@ fn the_bound_a_settled_refit_leaves_goes_on_and_never_makes_a_plan_worse() {
             49.375_543_698_457_48,
         )
     };
-    let on = TemplateSettings::default();
+    let on = TemplateSettings {
+        retry: 0,
+        ..TemplateSettings::default()
+    };
     let off = TemplateSettings {
         leftover: false,
         ..on

@@ -8,7 +8,7 @@ use dataset_gen::algorithms::AnyAlgorithm;
 use dataset_gen::batch::{self, GenConfig, RunOptions, Shard};
 use dataset_gen::front;
 use dataset_gen::jobs::parts::{merge_job, run_and_merge};
-use dataset_gen::library::{self, WarmSettings};
+use dataset_gen::library::{self, GrowSettings, WarmSettings};
 use dataset_gen::rng::rng_from_seed;
 use dataset_gen::rope_shovel::dataset::{ShovelGenConfig, is_shovel_dir, summarise_shovel};
 use dataset_gen::rope_shovel::sample::read_shovel_dataset;
@@ -284,6 +284,30 @@ enum Command {
         library: PathBuf,
         #[arg(long, default_value = "artifacts/templates.json")]
         out: PathBuf,
+    },
+    /// The templates grown by the learned planner's own plans of fresh
+    /// random tasks (wide ranges), each kept where it leaves at most
+    /// --within of the design under- and over-dug: the seeds of `plan`'s
+    /// second attempt (artifacts/templates_grown.json). Resumable; writes
+    /// OUT/templates.json.
+    GrowTemplates {
+        /// The templates the planner is seeded by, and the file grows from.
+        #[arg(long, default_value = "artifacts/templates.json")]
+        templates: PathBuf,
+        /// The task network that plans the fresh tasks.
+        #[arg(long, default_value = "artifacts/task_network/seed_1.json")]
+        network: PathBuf,
+        #[arg(long, default_value_t = GrowSettings::default().tasks)]
+        tasks: usize,
+        /// Seed of the fresh tasks (keep it away from eval's, 11 on).
+        #[arg(long, default_value_t = GrowSettings::default().seed)]
+        seed: u64,
+        #[arg(long, default_value_t = GrowSettings::default().within)]
+        within: f64,
+        #[arg(long, default_value = "runs/grown")]
+        out: PathBuf,
+        #[arg(long)]
+        no_progress: bool,
     },
     /// Each optimiser at the source's settings vs the best with 10× iterations.
     Quality {
@@ -657,6 +681,40 @@ fn main_inner() -> Result<(), Error> {
             let lib = library::Library::load(&library)?;
             let written = lib.write_templates(&planner, &out)?;
             print(&serde_json::json!({ "out": out, "templates": written }))
+        }
+        Command::GrowTemplates {
+            templates,
+            network,
+            tasks,
+            seed,
+            within,
+            out,
+            no_progress,
+        } => {
+            let read = |p: &PathBuf| {
+                std::fs::read_to_string(p).map_err(|source| Error::Io {
+                    path: p.clone(),
+                    source,
+                })
+            };
+            let settings = GrowSettings {
+                tasks,
+                seed,
+                within,
+                ..GrowSettings::default()
+            };
+            let planner = default_planner()?;
+            let bar = dataset_gen::jobs::progress_bar(0, "tasks", !no_progress);
+            let report = library::grow(
+                &planner,
+                &read(&templates)?,
+                &read(&network)?,
+                &settings,
+                &out,
+                Some(&bar),
+            )?;
+            bar.finish_and_clear();
+            print(&report)
         }
         Command::Quality {
             queries,

@@ -19,11 +19,13 @@
 //! needs), at a fraction of a cold search's cost. Its plans that still
 //! miss their design are then searched again cold ([`repair`]).
 
+mod grow;
 mod merged;
 mod refit;
 mod repair;
 mod warm;
 
+pub use grow::{GROWN_FILE, GrowReport, GrowSettings, grow};
 pub use merged::{MergeReport, PLAN_TOPIC, merge, read_merged};
 pub use refit::{Library, Refit, refit_from_library};
 pub use repair::{RepairReport, RepairSettings, repair};

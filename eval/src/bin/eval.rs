@@ -60,6 +60,11 @@ struct EvalArgs {
     /// by those templates too (default artifacts/task_network); `none`: not run.
     #[arg(long)]
     task_networks: Option<String>,
+    /// The templates that seed a task network's second attempt, where the
+    /// first misses (default artifacts/templates_grown.json, written by
+    /// `dataset_gen grow-templates`); `same`: those of --templates.
+    #[arg(long)]
+    retry_templates: Option<String>,
 }
 
 /// A file or folder argument that may be `none` (the step is not run).
@@ -86,7 +91,20 @@ impl EvalArgs {
             });
         }
         if let Some(arg) = &self.task_networks {
-            s.learned = file_or_none(arg).map(|networks| LearnedPlanning { networks });
+            s.learned = file_or_none(arg).map(|networks| LearnedPlanning {
+                networks,
+                ..LearnedPlanning::default()
+            });
+        }
+        match (&self.retry_templates, &mut s.learned) {
+            (Some(arg), Some(l)) => l.retry_templates = (arg != "same").then(|| arg.into()),
+            (Some(_), None) => {
+                return Err(EvalError::BadArgument(
+                    "--retry-templates seeds the learned planner: not with --task-networks none"
+                        .into(),
+                ));
+            }
+            (None, _) => {}
         }
         if let Some(path) = &self.planner {
             s.planner = read_json(path)?;
@@ -173,9 +191,14 @@ enum Command {
         /// Folder of the task networks (seed_<s>.json, `train_tasks`).
         #[arg(long, default_value = "artifacts/task_network")]
         networks: PathBuf,
-        /// Templates to compare with (`none`: not run).
+        /// Templates to compare with (`none`: not run), also seeding the
+        /// learned planner as `plan` seeds it.
         #[arg(long, default_value = "artifacts/templates.json")]
         templates: String,
+        /// Templates seeding the learned planner's second attempt, where
+        /// the first misses, as `plan` seeds it (`same`: --templates).
+        #[arg(long, default_value = "artifacts/templates_grown.json")]
+        retry_templates: String,
         /// Folder of the dig networks whose greedy planner is compared
         /// (`none`: not run).
         #[arg(long, default_value = "artifacts")]
@@ -194,10 +217,10 @@ enum Command {
         #[arg(long, default_value = "artifacts/learned")]
         out: PathBuf,
     },
-    /// The learned planner, as `plan` runs it, at a ladder of bounds on
-    /// exact evaluations, per task network, on `learned`'s tasks: the
-    /// figures against planning time, into OUT/report.{md,json} and
-    /// OUT/bounds.svg.
+    /// The learned planner's first attempt, as `plan` makes it, at a ladder
+    /// of bounds on exact evaluations (no second attempt), per task
+    /// network, on `learned`'s tasks: the figures against planning time,
+    /// into OUT/report.{md,json} and OUT/bounds.svg.
     Bounds {
         /// Folder of the task networks (seed_<s>.json, `train_tasks`).
         #[arg(long, default_value = "artifacts/task_network")]
@@ -381,6 +404,7 @@ fn run(cli: Cli) -> Result<(), EvalError> {
         Command::Learned {
             networks,
             templates,
+            retry_templates,
             dig_networks,
             template_settings,
             fresh,
@@ -400,9 +424,15 @@ fn run(cli: Cli) -> Result<(), EvalError> {
                 "none" => None,
                 dir => Some(Networks::load(std::path::Path::new(dir))?),
             };
+            let templates =
+                TemplatePlanning::load_arg(&templates).map_err(EvalError::BadArgument)?;
+            let retry_templates = match retry_templates.as_str() {
+                "same" => templates.clone(),
+                file => TemplatePlanning::load_arg(file).map_err(EvalError::BadArgument)?,
+            };
             let compared = eval::learned::Compared {
-                templates: TemplatePlanning::load_arg(&templates)
-                    .map_err(EvalError::BadArgument)?,
+                templates,
+                retry_templates,
                 dig_networks,
             };
             learned(
@@ -422,7 +452,11 @@ fn run(cli: Cli) -> Result<(), EvalError> {
             let ladder = eval::learned::bounds::Ladder {
                 bounds: &ladder,
                 templates: &templates,
-                settings: TemplateSettings::default(),
+                // The bound alone: a retry would double some tasks' bound.
+                settings: TemplateSettings {
+                    retry: 0,
+                    ..TemplateSettings::default()
+                },
             };
             bounds(&networks, &ladder, fresh, fresh_seed, &out, progress)?
         }

@@ -24,7 +24,9 @@ use crate::whole::PlanSummary;
 use infer::Planner;
 use infer::plan::{Origin, Plan};
 use infer::repair::Violation;
-use infer::template::{MIN_EVALUATIONS, TaskNetworkFile, Template, TemplateSettings};
+use infer::template::{
+    MIN_EVALUATIONS, SeedTemplates, TaskNetworkFile, Template, TemplateSettings,
+};
 use serde::{Deserialize, Serialize};
 
 /// One planner on one task.
@@ -40,10 +42,14 @@ pub struct LearnedRow {
     pub broke: Option<String>,
 }
 
-/// The planners the learned one is compared with (either may be left out).
+/// The planners the learned one is compared with (either may be left
+/// out), and the templates that seed it.
 #[derive(Debug, Clone, Default)]
 pub struct Compared {
+    /// The template planner's, and the learned planner's first attempt's.
     pub templates: Vec<Template>,
+    /// The learned planner's second attempt's ([`SeedTemplates::retry`]).
+    pub retry_templates: Vec<Template>,
     pub dig_networks: Option<Networks>,
 }
 
@@ -126,10 +132,13 @@ pub fn compare(
     // The learned planner as `plan` runs it (the network's sequences and
     // the nearest templates as seeds), on the network's seeds alone to
     // show what the network adds, and at the least bound.
-    let library = compared.templates.as_slice();
+    let library = SeedTemplates {
+        first: &compared.templates,
+        retry: &compared.retry_templates,
+    };
     let mut variants = vec![("refit", settings, library)];
-    if !library.is_empty() {
-        variants.push(("network's seeds alone", settings, &[]));
+    if !library.first.is_empty() {
+        variants.push(("network's seeds alone", settings, SeedTemplates::NONE));
     }
     variants.push(("least refit", &least, library));
     for file in networks {
@@ -366,7 +375,10 @@ mod tests {
 
     #[test]
     fn a_planners_name_says_its_bound_and_any_retry() {
-        let s = TemplateSettings::default();
+        let s = TemplateSettings {
+            retry: 0,
+            ..TemplateSettings::default()
+        };
         assert_eq!(
             learned_name(2, "refit", &s),
             "learned seed 2 (refit, ≤ 9600 evaluations)"

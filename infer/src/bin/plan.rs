@@ -11,7 +11,7 @@ use infer::cli::TaskArgs;
 use infer::network::NetworkFile;
 use infer::plan::{Origin, Plan, svg};
 use infer::planner::MoveController;
-use infer::template::{TaskNetworkFile, TemplateFile, TemplateSettings};
+use infer::template::{SeedTemplates, TaskNetworkFile, Template, TemplateFile, TemplateSettings};
 use infer::{
     Config, DigPredictor, NetworkPair, PlanError, Planner, PlannerSettings, RefinePredictor, to_deg,
 };
@@ -54,6 +54,13 @@ struct Args {
     /// beside the network's sequences, or `none` for the network's alone
     #[arg(long, conflicts_with = "templates", default_value = DEFAULT_SEED_TEMPLATES)]
     seed_templates: PathBuf,
+    /// The template library whose nearest plans seed the learned planner's
+    /// second attempt (`dataset_gen grow-templates`), where the first
+    /// misses the design by more than the settings' tolerance, or `same`
+    /// for --seed-templates' (with --seed-templates none: the network's
+    /// alone)
+    #[arg(long, conflicts_with = "templates", default_value = DEFAULT_RETRY_TEMPLATES)]
+    retry_templates: PathBuf,
     /// Template planner settings as JSON (any field left out keeps its
     /// default), also the learned planner's.
     #[arg(long)]
@@ -89,6 +96,8 @@ struct Args {
 const DEFAULT_TASK_NETWORK: &str = "artifacts/task_network/seed_1.json";
 /// The templates that seed it too (the chained library's plans).
 const DEFAULT_SEED_TEMPLATES: &str = "artifacts/templates.json";
+/// The templates that seed its second attempt (those, grown).
+const DEFAULT_RETRY_TEMPLATES: &str = "artifacts/templates_grown.json";
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
 enum Tracker {
@@ -189,14 +198,19 @@ fn run(args: Args) -> Result<(), String> {
         .learned
         .clone()
         .unwrap_or_else(|| PathBuf::from(DEFAULT_TASK_NETWORK));
-    // The templates given (to plan from, or to seed the task network):
-    // the plan's origin names one of them.
+    // The templates given (to plan from, or to seed the task network's
+    // first attempt and its retry): the plan's origin names one of them.
     let mut templates = Vec::new();
+    let mut retry_templates = Vec::new();
+    let load = |path: &Path, what: &str| -> Result<Vec<Template>, String> {
+        let text = read(path).map_err(|e| format!("{e} ({what})"))?;
+        Ok(TemplateFile::from_json(&text)
+            .map_err(|e| format!("{}: {e}", path.display()))?
+            .templates)
+    };
     let planned = match (&args.templates, greedy) {
         (Some(path), _) => {
-            templates = TemplateFile::from_json(&read(path)?)
-                .map_err(|e| format!("{}: {e}", path.display()))?
-                .templates;
+            templates = load(path, "the templates to plan from")?;
             Some((
                 "templates",
                 planner.plan_from_templates(&task, &templates, &ts),
@@ -212,16 +226,27 @@ fn run(args: Args) -> Result<(), String> {
             let net = file.network().map_err(|e| e.to_string())?;
             let p = &args.seed_templates;
             if p.as_os_str() != "none" {
-                let text = read(p).map_err(|e| {
-                    format!("{e} (the templates seeding the task network; give --seed-templates FILE, or none)")
-                })?;
-                templates = TemplateFile::from_json(&text)
-                    .map_err(|e| format!("{}: {e}", p.display()))?
-                    .templates;
+                templates = load(
+                    p,
+                    "the templates seeding the task network; give --seed-templates FILE, or none",
+                )?;
             }
+            let r = &args.retry_templates;
+            retry_templates = if r.as_os_str() == "same" {
+                templates.clone()
+            } else {
+                load(
+                    r,
+                    "the templates seeding a retry; give --retry-templates FILE, or same",
+                )?
+            };
+            let seeds = SeedTemplates {
+                first: &templates,
+                retry: &retry_templates,
+            };
             Some((
                 "task network",
-                planner.plan_learned_with(&task, &net, &templates, &ts),
+                planner.plan_learned_with(&task, &net, seeds, &ts),
             ))
         }
         (None, true) => None,
@@ -266,6 +291,7 @@ fn run(args: Args) -> Result<(), String> {
     if let Some(origin) = plan.origin {
         let stored = match origin {
             Origin::Template { index } => templates.get(index).map(|t| t.task),
+            Origin::RetryTemplate { index } => retry_templates.get(index).map(|t| t.task),
             Origin::Network { .. } => None,
         };
         match stored {

@@ -128,6 +128,37 @@ impl Template {
     }
 }
 
+/// The templates a learned plan carries over as seeds: the nearest of
+/// `first` in its first attempt, of `retry` in its second
+/// ([`TemplateSettings::retry`]).
+///
+/// Why two sets: the shipped templates grown by the planner's own plans of
+/// fresh tasks (`dataset_gen grow-templates`) seed the first attempt
+/// worse than the shipped ones (more misses, though a lower mean) but a
+/// retry better, from the basins the first attempt did not reach (the
+/// crate's README).
+#[derive(Debug, Clone, Copy)]
+pub struct SeedTemplates<'a> {
+    pub first: &'a [Template],
+    pub retry: &'a [Template],
+}
+
+impl<'a> SeedTemplates<'a> {
+    /// No templates: the network's sequences alone seed both attempts.
+    pub const NONE: SeedTemplates<'static> = SeedTemplates {
+        first: &[],
+        retry: &[],
+    };
+
+    /// The same templates for both attempts.
+    pub fn same(templates: &'a [Template]) -> Self {
+        SeedTemplates {
+            first: templates,
+            retry: templates,
+        }
+    }
+}
+
 /// How a template plan is made.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -183,8 +214,9 @@ pub struct TemplateSettings {
     /// Evaluations of a second attempt for a plan that misses the design
     /// by more than `tolerance` (or that found no plan); the better plan
     /// is kept, so a task takes at most `max_evaluations` + `retry`. 0:
-    /// none. A larger bound's race ends in other basins, so a second
-    /// attempt mends some misses (see the crate's README).
+    /// none. A second race ends in other basins, most of all from other
+    /// seeds ([`SeedTemplates::retry`]), so it mends some misses: see the
+    /// crate's README for the default's figures.
     pub retry: usize,
     /// The under- and over-dug fractions of the design a plan may leave
     /// before it is retried.
@@ -220,7 +252,7 @@ impl Default for TemplateSettings {
             min_step: 1e-4,
             retime: true,
             rotate: true,
-            retry: 0,
+            retry: 9600,
             tolerance: 0.03,
             screen_samples: 65,
             leftover: true,
@@ -318,6 +350,8 @@ pub struct TemplateWork {
     /// Digs of the last plan if it succeeded, else 0.
     planned: usize,
     seed: usize,
+    /// Whether the last plan is its second attempt's.
+    retried: bool,
     /// Whether the last plan's refit moved the skews.
     skew: bool,
     /// The seeds in the race, each refit's best and the directions and

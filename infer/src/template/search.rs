@@ -5,8 +5,8 @@
 
 use super::learned::TaskNetwork;
 use super::{
-    Champion, MAX_TEMPLATE_DIGS, Played, Steps, Template, TemplateSettings, TemplateWork, WINDOW,
-    WINDOW_AFTER, WINDOW_BEFORE,
+    Champion, MAX_TEMPLATE_DIGS, Played, SeedTemplates, Steps, Template, TemplateSettings,
+    TemplateWork, WINDOW, WINDOW_AFTER, WINDOW_BEFORE,
 };
 use crate::planner::{PlanError, Planner};
 use crate::sequence::MAX_NEIGHBOURS;
@@ -37,7 +37,17 @@ enum Source<'s, 'n> {
     Templates(&'s [Template]),
     /// The network's sequence for the task, and the nearest of these
     /// templates, carried over.
-    Network(&'s TaskNetwork<'n>, &'s [Template]),
+    Network(&'s TaskNetwork<'n>, SeedTemplates<'s>),
+}
+
+impl<'s, 'n> Source<'s, 'n> {
+    /// Where a second attempt's seeds come from.
+    fn for_retry(self) -> Self {
+        match self {
+            Source::Templates(_) => self,
+            Source::Network(net, t) => Source::Network(net, SeedTemplates::same(t.retry)),
+        }
+    }
 }
 
 /// A first attempt's plan kept while a retry runs.
@@ -80,21 +90,24 @@ impl TemplateWork {
         network: &TaskNetwork<'_>,
         settings: &TemplateSettings,
     ) -> Result<(), PlanError> {
-        self.plan_from(planner, task, Source::Network(network, &[]), settings)
+        let source = Source::Network(network, SeedTemplates::NONE);
+        self.plan_from(planner, task, source, settings)
     }
 
     /// [`Self::plan_learned`], the nearest of `templates` (up to
     /// [`TemplateSettings::neighbours`], and [`MAX_NEIGHBOURS`] seeds in
-    /// all) carried over as seeds too. Why: the network interpolates
-    /// between the library's tasks, and where it misses (a seed of the
-    /// expected count whose refit stays infeasible), a stored plan of a
-    /// near task often holds; the refit keeps the best of either.
+    /// all) carried over as seeds too: of [`SeedTemplates::first`] in the
+    /// first attempt, of [`SeedTemplates::retry`] in a second. Why: the
+    /// network interpolates between the library's tasks, and where it
+    /// misses (a seed of the expected count whose refit stays
+    /// infeasible), a stored plan of a near task often holds; the refit
+    /// keeps the best of either.
     pub fn plan_learned_with(
         &mut self,
         planner: &Planner,
         task: &TrenchTask,
         network: &TaskNetwork<'_>,
-        templates: &[Template],
+        templates: SeedTemplates<'_>,
         settings: &TemplateSettings,
     ) -> Result<(), PlanError> {
         self.plan_from(planner, task, Source::Network(network, templates), settings)
@@ -112,6 +125,7 @@ impl TemplateWork {
         settings: &TemplateSettings,
     ) -> Result<(), PlanError> {
         settings.validate(planner.config())?;
+        self.retried = false;
         let first = self.attempt(planner, task, source, settings);
         if settings.retry == 0 || (first.is_ok() && self.within(settings.tolerance)) {
             return first;
@@ -129,7 +143,7 @@ impl TemplateWork {
             max_evaluations: settings.retry - reserve,
             ..*settings
         };
-        let second = self.attempt(planner, task, source, &again);
+        let second = self.attempt(planner, task, source.for_retry(), &again);
         self.evaluations += spent;
         match kept {
             Some(k) if second.is_err() || k.plan.value <= self.best.value => {
@@ -140,7 +154,10 @@ impl TemplateWork {
                 self.planned = self.best.count;
                 Ok(())
             }
-            _ => second,
+            _ => {
+                self.retried = true;
+                second
+            }
         }
     }
 
@@ -249,7 +266,7 @@ impl TemplateWork {
                 }
                 self.skew |= net.skewed();
                 self.skew |=
-                    self.nearest_seeds(&mut near[used..], templates, expected, settings, 1);
+                    self.nearest_seeds(&mut near[used..], templates.first, expected, settings, 1);
             }
         }
         let (lo, hi) = search_box(cfg, &self.design, self.skew);

@@ -40,6 +40,7 @@ impl TemplateWork {
             retime: RetimeWork::default(),
             planned: 0,
             seed: 0,
+            retried: false,
             skew: false,
             racers: [None; MAX_NEIGHBOURS],
             design_heights: [0.0; WINDOW],
@@ -67,9 +68,16 @@ impl TemplateWork {
 
     /// Index (into the templates given) of the template the last plan grew
     /// from; for a learned plan, 0 for the network's sequence and i + 1
-    /// for template i.
+    /// for template i (of
+    /// [`super::SeedTemplates::retry`] if [`Self::retried`]).
     pub fn seed(&self) -> usize {
         self.seed
+    }
+
+    /// Whether the last plan is its second attempt's
+    /// ([`super::TemplateSettings::retry`]).
+    pub fn retried(&self) -> bool {
+        self.retried
     }
 
     pub fn design(&self) -> &DesignProfile {
