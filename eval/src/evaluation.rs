@@ -184,20 +184,12 @@ impl EvalSettings {
             }
             Some(_) => {}
         }
-        let default = LearnedPlanning::default();
         match &self.learned {
             None => out.push("no learned task planner".into()),
-            Some(l) => {
-                if l.networks != default.networks {
-                    out.push(format!("task networks {}", l.networks.display()))
-                }
-                if l.retry_templates != default.retry_templates {
-                    out.push(match &l.retry_templates {
-                        Some(f) => format!("retry templates {}", f.display()),
-                        None => "a learned plan retried from the templates".into(),
-                    })
-                }
+            Some(l) if *l != LearnedPlanning::default() => {
+                out.push(format!("task networks {}", l.networks.display()))
             }
+            Some(_) => {}
         }
         if self.planner != PlannerSettings::default() {
             out.push("planner settings differ from the defaults".into());

@@ -16,23 +16,19 @@ use std::path::PathBuf;
 /// The task networks (`seed_<s>.json`, one per training seed, as
 /// `train_tasks` writes them) a whole-task comparison also plans every
 /// task from, as `plan` does by default: each network's sequences and the
-/// nearest templates (of [`TemplatePlanning`], when given) as seeds,
-/// refitted within the template planner's bound, a miss retried from the
-/// nearest of `retry_templates`. The first seed's is `plan`'s default.
+/// nearest templates (of [`TemplatePlanning`], when given, and its retry
+/// templates for a second attempt) as seeds, refitted within the template
+/// planner's bound. The first seed's is `plan`'s default.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[serde(deny_unknown_fields)]
 pub struct LearnedPlanning {
     pub networks: PathBuf,
-    /// The templates a second attempt is seeded by
-    /// (`dataset_gen grow-templates`); `None`: the template planner's.
-    pub retry_templates: Option<PathBuf>,
 }
 
 impl Default for LearnedPlanning {
     fn default() -> Self {
         LearnedPlanning {
             networks: "artifacts/task_network".into(),
-            retry_templates: Some("artifacts/templates_grown.json".into()),
         }
     }
 }
@@ -93,9 +89,8 @@ impl LibraryPlans {
 /// error at the start, not after the optimisers have run.
 #[derive(Debug, Default)]
 pub struct Library {
-    templates: Option<(Vec<Template>, TemplateSettings)>,
-    /// The learned planner's second attempt's seeds, if not the templates.
-    retry_templates: Option<Vec<Template>>,
+    /// The templates, those of a retry, and the planners' settings.
+    templates: Option<(Vec<Template>, Vec<Template>, TemplateSettings)>,
     networks: Vec<TaskNetworkFile>,
 }
 
@@ -106,7 +101,11 @@ impl Library {
         learned: Option<&LearnedPlanning>,
     ) -> Result<Self, EvalError> {
         let templates = match templates {
-            Some(t) => Some((t.load().map_err(EvalError::BadArgument)?, t.settings)),
+            Some(t) => {
+                let first = t.load().map_err(EvalError::BadArgument)?;
+                let retry = t.load_retry(&first).map_err(EvalError::BadArgument)?;
+                Some((first, retry, t.settings))
+            }
             None => None,
         };
         let networks = match learned {
@@ -116,20 +115,8 @@ impl Library {
         for file in &networks {
             file.network()?;
         }
-        let retry_templates = match learned.and_then(|l| l.retry_templates.as_ref()) {
-            Some(file) => Some(
-                TemplatePlanning {
-                    file: file.clone(),
-                    ..TemplatePlanning::default()
-                }
-                .load()
-                .map_err(EvalError::BadArgument)?,
-            ),
-            None => None,
-        };
         Ok(Library {
             templates,
-            retry_templates,
             networks,
         })
     }
@@ -144,23 +131,19 @@ impl Library {
         tasks: &[NamedTask],
         show_progress: bool,
     ) -> Result<LibraryPlans, EvalError> {
-        let (library, settings) = match &self.templates {
-            Some((t, s)) => (t.as_slice(), *s),
-            None => (&[][..], TemplateSettings::default()),
+        let (seeds, settings) = match &self.templates {
+            Some((first, retry, s)) => (SeedTemplates { first, retry }, *s),
+            None => (SeedTemplates::NONE, TemplateSettings::default()),
         };
         let templates = self.templates.as_ref().map(|_| {
             plan_each(tasks, "templates".into(), show_progress, |task| {
-                planner.plan_from_templates(task, library, &settings)
+                planner.plan_from_templates(task, seeds, &settings)
             })
         });
         let mut learned = Vec::new();
         for file in &self.networks {
             let net = file.network()?;
             let label = format!("learned task planner, seed {}", file.seed);
-            let seeds = SeedTemplates {
-                first: library,
-                retry: self.retry_templates.as_deref().unwrap_or(library),
-            };
             let plans = plan_each(tasks, label, show_progress, |task| {
                 planner.plan_learned_with(task, &net, seeds, &settings)
             });

@@ -125,13 +125,17 @@ pub struct WholeTaskRow {
 
 /// The templates a whole-task comparison also plans every task from
 /// ([`infer::template`]: offline-optimised plans carried over and refitted
-/// within a bound) and the template planner's settings.
+/// within a bound), those a plan that misses is planned again from, and
+/// the template planner's settings.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct TemplatePlanning {
     /// The template file (`dataset_gen templates` writes one; the shipped
     /// one is `artifacts/templates.json`, from `artifacts/library`).
     pub file: std::path::PathBuf,
+    /// The retry's template file (`dataset_gen grow-templates`; shipped:
+    /// `artifacts/templates_grown.json`); `None`: `file`'s.
+    pub retry_file: Option<std::path::PathBuf>,
     pub settings: TemplateSettings,
 }
 
@@ -139,6 +143,7 @@ impl Default for TemplatePlanning {
     fn default() -> Self {
         TemplatePlanning {
             file: "artifacts/templates.json".into(),
+            retry_file: Some("artifacts/templates_grown.json".into()),
             settings: TemplateSettings::default(),
         }
     }
@@ -149,22 +154,30 @@ impl TemplatePlanning {
     pub fn load_arg(arg: &str) -> Result<Vec<Template>, String> {
         match arg {
             "none" => Ok(Vec::new()),
-            file => TemplatePlanning {
-                file: file.into(),
-                ..TemplatePlanning::default()
-            }
-            .load(),
+            file => read_templates(std::path::Path::new(file)),
         }
     }
 
     /// Reads the template file.
     pub fn load(&self) -> Result<Vec<Template>, String> {
-        let f = &self.file;
-        let text = std::fs::read_to_string(f).map_err(|e| format!("{}: {e}", f.display()))?;
-        TemplateFile::from_json(&text)
-            .map(|t| t.templates)
-            .map_err(|e| format!("{}: {e}", f.display()))
+        read_templates(&self.file)
     }
+
+    /// Reads the retry's template file, or gives `first` again.
+    pub fn load_retry(&self, first: &[Template]) -> Result<Vec<Template>, String> {
+        match &self.retry_file {
+            Some(f) => read_templates(f),
+            None => Ok(first.to_vec()),
+        }
+    }
+}
+
+/// The templates of a template file.
+fn read_templates(f: &std::path::Path) -> Result<Vec<Template>, String> {
+    let text = std::fs::read_to_string(f).map_err(|e| format!("{}: {e}", f.display()))?;
+    TemplateFile::from_json(&text)
+        .map(|t| t.templates)
+        .map_err(|e| format!("{}: {e}", f.display()))
 }
 
 /// Each task's digs chosen as one sequence by PSO

@@ -34,7 +34,7 @@ fn bad_input_exits_with_2() {
         &["compare", "--quick", "--retry-templates", "/nonexistent"],
         &[
             "compare",
-            "--task-networks",
+            "--templates",
             "none",
             "--retry-templates",
             "same",

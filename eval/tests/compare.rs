@@ -268,6 +268,9 @@ fn small_evaluation_writes_every_report_file() {
         },
         templates: Some(TemplatePlanning {
             file: Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/templates.json"),
+            retry_file: Some(
+                Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/templates_grown.json"),
+            ),
             settings: infer::TemplateSettings {
                 neighbours: 2,
                 max_evaluations: 150,
@@ -277,9 +280,6 @@ fn small_evaluation_writes_every_report_file() {
         }),
         learned: Some(LearnedPlanning {
             networks: Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/task_network"),
-            retry_templates: Some(
-                Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/templates_grown.json"),
-            ),
         }),
         ..EvalSettings::default()
     };

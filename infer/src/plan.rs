@@ -7,7 +7,7 @@
 use crate::kinematics::LinkFrames;
 use crate::planner::{PlanError, PlannedDig, Planner};
 use crate::predictor::DigPredictor;
-use crate::template::{SeedTemplates, TaskNetwork, Template, TemplateSettings, TemplateWork};
+use crate::template::{SeedTemplates, TaskNetwork, TemplateSettings, TemplateWork};
 use crate::terrain::Terrain;
 use crate::trajectory::Trajectory;
 use crate::trench::{DesignProfile, ProfileMetrics, TrenchTask};
@@ -70,7 +70,7 @@ pub enum Origin {
     Network { digs: usize },
     /// This stored plan (index into the templates given), carried over.
     Template { index: usize },
-    /// This stored plan of a learned plan's retry templates
+    /// This stored plan of the retry templates
     /// ([`crate::template::SeedTemplates::retry`]), carried over.
     RetryTemplate { index: usize },
 }
@@ -177,18 +177,23 @@ impl Planner {
 
 impl Planner {
     /// Plans a whole task from the nearest of `templates`
-    /// ([`crate::template`]): every dig feasible within the design guard,
-    /// or an error naming the first dig that is not.
+    /// ([`crate::template`]; a miss again from the nearest retry
+    /// templates): every dig feasible within the design guard, or an error
+    /// naming the first dig that is not.
     pub fn plan_from_templates(
         &self,
         task: &TrenchTask,
-        templates: &[Template],
+        templates: SeedTemplates<'_>,
         settings: &TemplateSettings,
     ) -> Result<Plan, PlanError> {
         let clock = std::time::Instant::now();
         let mut work = Box::new(TemplateWork::new(self)?);
         work.plan(self, task, templates, settings)?;
-        let origin = Origin::Template { index: work.seed() };
+        let index = work.seed();
+        let origin = match work.retried() {
+            false => Origin::Template { index },
+            true => Origin::RetryTemplate { index },
+        };
         Ok(self.plan_of(&mut work, task, origin, clock))
     }
 

@@ -47,8 +47,13 @@ fn network_of_width(planner: &Planner, w: usize) -> (Vec<usize>, Vec<f64>, infer
     let task = TrenchTask::reference('A').unwrap();
     let design = DesignProfile::new(planner.config(), &task);
     let mut work = Box::new(TemplateWork::new(planner).unwrap());
-    work.plan(planner, &task, &templates, &TemplateSettings::default())
-        .unwrap();
+    work.plan(
+        planner,
+        &task,
+        SeedTemplates::same(&templates),
+        &TemplateSettings::default(),
+    )
+    .unwrap();
     let t = templates[work.seed()];
     // A network of the spec's family gives no skews.
     let t = if w == SPEC_VARS { unskewed(&t) } else { t };

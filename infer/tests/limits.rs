@@ -17,7 +17,7 @@ use infer::plan::Plan;
 use infer::poly::Poly;
 use infer::repair::{assess, rescale};
 use infer::retime::{RetimeWork, retime};
-use infer::template::{TaskNetworkFile, TemplateSettings};
+use infer::template::{SeedTemplates, TaskNetworkFile, TemplateSettings};
 use infer::{
     CarveBuffer, Config, DigParams, Ground, PlanError, Planner, PlannerSettings, QueryRanges,
     Terrain, Trajectory, TrenchTask, evaluate,
@@ -448,7 +448,7 @@ proptest! {
         let network = task_network();
         let net = network.network().unwrap();
         for planned in [
-            planner.plan_from_templates(&task, templates(), &settings),
+            planner.plan_from_templates(&task, SeedTemplates::same(templates()), &settings),
             planner.plan_learned(&task, &net, &settings),
         ] {
             match planned {

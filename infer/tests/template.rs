@@ -6,7 +6,7 @@
 use infer::plan::Plan;
 use infer::repair::assess;
 use infer::sequence::{DIG_VARS, DURATION, bends_of, decode, encode, params_from_bends, query_of};
-use infer::template::{TemplateFile, TemplateSettings, TemplateWork};
+use infer::template::{SeedTemplates, TemplateFile, TemplateSettings, TemplateWork};
 use infer::{
     CarveBuffer, Config, DigType, Ground, PlanError, Planner, PlannerSettings, Template, TrenchTask,
 };
@@ -146,13 +146,17 @@ fn freed_skews_plan_b_closer_to_its_design() {
     let planner = planner();
     let templates: Vec<Template> = shipped_templates().iter().map(unskewed).collect();
     let task = TrenchTask::reference('B').unwrap();
-    let spec = planner.plan_from_templates(&task, &templates, &TemplateSettings::default());
+    let spec = planner.plan_from_templates(
+        &task,
+        SeedTemplates::same(&templates),
+        &TemplateSettings::default(),
+    );
     let settings = TemplateSettings {
         skew: true,
         ..TemplateSettings::default()
     };
     let skewed = planner
-        .plan_from_templates(&task, &templates, &settings)
+        .plan_from_templates(&task, SeedTemplates::same(&templates), &settings)
         .unwrap();
     assert!(skewed.digs.iter().any(|r| r.dig.params.is_skewed()));
     assert_eq!(skewed.verify(&planner).unwrap(), skewed.metrics);
@@ -178,7 +182,7 @@ fn task_a_from_the_shipped_templates_is_feasible_bounded_and_repeatable() {
     let task = TrenchTask::reference('A').unwrap();
     let settings = TemplateSettings::default();
     let plan = planner
-        .plan_from_templates(&task, &templates, &settings)
+        .plan_from_templates(&task, SeedTemplates::same(&templates), &settings)
         .unwrap();
     assert!(!plan.digs.is_empty());
     // Every dig holds under the exact model and the guard, replayed from flat ground.
@@ -196,7 +200,7 @@ fn task_a_from_the_shipped_templates_is_feasible_bounded_and_repeatable() {
             .all(|r| r.dig.outcome == infer::Outcome::Templated)
     );
     let again = planner
-        .plan_from_templates(&task, &templates, &settings)
+        .plan_from_templates(&task, SeedTemplates::same(&templates), &settings)
         .unwrap();
     assert_eq!(
         serde_json::to_value(&plan.digs).unwrap(),
@@ -224,9 +228,13 @@ fn a_plan_too_fast_for_its_limits_is_retimed_before_it_is_given_up() {
         retime: false,
         ..least
     };
-    let e = p.plan_from_templates(&task, &fast, &unretimed).unwrap_err();
+    let e = p
+        .plan_from_templates(&task, SeedTemplates::same(&fast), &unretimed)
+        .unwrap_err();
     assert!(e.to_string().contains("acceleration"), "{e}");
-    let retimed = p.plan_from_templates(&task, &fast, &least).unwrap();
+    let retimed = p
+        .plan_from_templates(&task, SeedTemplates::same(&fast), &least)
+        .unwrap();
     assert_eq!(retimed.verify(&p).unwrap(), retimed.metrics);
     assert!(retimed.digs.iter().any(|r| r.dig.params.duration > 6.5));
 }
@@ -242,7 +250,9 @@ fn a_plan_outside_the_tolerance_is_retried_and_the_better_kept() {
         retry: 0,
         ..TemplateSettings::default()
     };
-    let first = p.plan_from_templates(&task, &templates, &once).unwrap();
+    let first = p
+        .plan_from_templates(&task, SeedTemplates::same(&templates), &once)
+        .unwrap();
     let missed = |plan: &Plan| plan.metrics.under_dug + plan.metrics.over_dug;
     // Any plan that leaves material is outside a zero tolerance.
     let retry = TemplateSettings {
@@ -252,11 +262,14 @@ fn a_plan_outside_the_tolerance_is_retried_and_the_better_kept() {
     };
     let mut work = Box::new(TemplateWork::new(&p).unwrap());
     let before = allocations();
-    work.plan(&p, &task, &templates, &retry).unwrap();
+    work.plan(&p, &task, SeedTemplates::same(&templates), &retry)
+        .unwrap();
     assert_eq!(allocations(), before, "a retried plan allocated");
     assert!(work.evaluations() > once.max_evaluations);
     assert!(work.evaluations() <= once.max_evaluations + retry.retry);
-    let retried = p.plan_from_templates(&task, &templates, &retry).unwrap();
+    let retried = p
+        .plan_from_templates(&task, SeedTemplates::same(&templates), &retry)
+        .unwrap();
     assert_eq!(retried.verify(&p).unwrap(), retried.metrics);
     assert!(missed(&retried) <= missed(&first));
     assert!(
@@ -268,15 +281,20 @@ fn a_plan_outside_the_tolerance_is_retried_and_the_better_kept() {
         max_evaluations: 600,
         ..once
     };
-    let good = p.plan_from_templates(&task, &templates, &larger).unwrap();
+    let good = p
+        .plan_from_templates(&task, SeedTemplates::same(&templates), &larger)
+        .unwrap();
     let short = TemplateSettings {
         retry: 106,
         tolerance: 0.0,
         ..larger
     };
-    work.plan(&p, &task, &templates, &short).unwrap();
+    work.plan(&p, &task, SeedTemplates::same(&templates), &short)
+        .unwrap();
     assert!(work.evaluations() > larger.max_evaluations);
-    let restored = p.plan_from_templates(&task, &templates, &short).unwrap();
+    let restored = p
+        .plan_from_templates(&task, SeedTemplates::same(&templates), &short)
+        .unwrap();
     assert_eq!(restored.metrics, good.metrics);
     for (a, b) in restored.digs.iter().zip(&good.digs) {
         assert_eq!((a.dig.params, a.dig.stretch), (b.dig.params, b.dig.stretch));
@@ -287,12 +305,40 @@ fn a_plan_outside_the_tolerance_is_retried_and_the_better_kept() {
         tolerance: 1.0,
         ..retry
     };
-    let kept = p.plan_from_templates(&task, &templates, &met).unwrap();
+    let kept = p
+        .plan_from_templates(&task, SeedTemplates::same(&templates), &met)
+        .unwrap();
     assert_eq!(kept.metrics, first.metrics);
     assert_eq!(kept.digs.len(), first.digs.len());
     // A retry below the least bound is refused.
     let small = TemplateSettings { retry: 50, ..once };
-    assert!(p.plan_from_templates(&task, &templates, &small).is_err());
+    assert!(
+        p.plan_from_templates(&task, SeedTemplates::same(&templates), &small)
+            .is_err()
+    );
+    // From other templates: a first attempt seeded by one far template
+    // (the 6-dig plan of the library's deepest, widest task) misses, the
+    // retry from the shipped ones mends it, and the plan names the retry's
+    // template.
+    let far = templates
+        .iter()
+        .max_by(|a, b| (a.task.length * a.task.depth).total_cmp(&(b.task.length * b.task.depth)))
+        .unwrap();
+    let seeds = SeedTemplates {
+        first: std::slice::from_ref(far),
+        retry: &templates,
+    };
+    let other = TemplateSettings { retry: 600, ..once };
+    let alone = p.plan_from_templates(&task, SeedTemplates::same(std::slice::from_ref(far)), &once);
+    let mended = p.plan_from_templates(&task, seeds, &other).unwrap();
+    assert_eq!(mended.verify(&p).unwrap(), mended.metrics);
+    assert!(alone.is_err() || missed(alone.as_ref().unwrap()) > missed(&mended));
+    work.plan(&p, &task, seeds, &other).unwrap();
+    assert!(work.retried());
+    assert_eq!(
+        mended.origin,
+        Some(infer::plan::Origin::RetryTemplate { index: work.seed() })
+    );
 }
 
 /// A refit that settles hands the rest of the bound on (the race's
@@ -321,9 +367,11 @@ fn the_bound_a_settled_refit_leaves_goes_on_and_never_makes_a_plan_worse() {
         ..on
     };
     let mut work = Box::new(TemplateWork::new(&p).unwrap());
-    work.plan(&p, &task, &templates, &off).unwrap();
+    work.plan(&p, &task, SeedTemplates::same(&templates), &off)
+        .unwrap();
     let (before, spent) = (work.metrics(), work.evaluations());
-    work.plan(&p, &task, &templates, &on).unwrap();
+    work.plan(&p, &task, SeedTemplates::same(&templates), &on)
+        .unwrap();
     let after = work.metrics();
     assert!(
         spent < on.max_evaluations * 3 / 4,
@@ -345,7 +393,8 @@ fn planning_from_templates_does_not_allocate() {
     let mut work = Box::new(TemplateWork::new(&planner).unwrap());
     let settings = quick();
     let before = allocations();
-    work.plan(&planner, &task, &templates, &settings).unwrap();
+    work.plan(&planner, &task, SeedTemplates::same(&templates), &settings)
+        .unwrap();
     let n = work.len();
     assert!(work.dig(&planner, n).is_none());
     for i in 0..n {
@@ -361,7 +410,7 @@ fn bad_input_gives_an_error() {
     let templates = shipped_templates();
     let a = TrenchTask::reference('A').unwrap();
     let plan = |task: &TrenchTask, templates: &[Template], s: &TemplateSettings| {
-        planner.plan_from_templates(task, templates, s)
+        planner.plan_from_templates(task, SeedTemplates::same(templates), s)
     };
     assert!(matches!(
         plan(&a, &[], &quick()),
@@ -458,7 +507,7 @@ fn tasks_across_the_range_give_feasible_plans_or_named_failures() {
             )
         };
         assert!(planner.digs_for(&task).is_ok(), "{task:?}");
-        match planner.plan_from_templates(&task, &templates, &settings) {
+        match planner.plan_from_templates(&task, SeedTemplates::same(&templates), &settings) {
             Ok(plan) => {
                 assert!(plan.verify(&planner).is_ok(), "{task:?}");
                 let spent: usize = plan.digs.iter().map(|r| r.dig.evaluations).sum();

@@ -60,12 +60,16 @@ struct EvalArgs {
     /// by those templates too (default artifacts/task_network); `none`: not run.
     #[arg(long)]
     task_networks: Option<String>,
-    /// The templates that seed a task network's second attempt, where the
-    /// first misses (default artifacts/templates_grown.json, written by
-    /// `dataset_gen grow-templates`); `same`: those of --templates.
+    /// The templates a plan that misses is planned again from, by the
+    /// template and learned planners (default
+    /// artifacts/templates_grown.json, written by `dataset_gen
+    /// grow-templates`); `same`: those of --templates.
     #[arg(long)]
     retry_templates: Option<String>,
 }
+
+/// The templates a plan that misses is planned again from, unless told.
+const DEFAULT_RETRY_TEMPLATES: &str = "artifacts/templates_grown.json";
 
 /// A file or folder argument that may be `none` (the step is not run).
 fn file_or_none(arg: &str) -> Option<PathBuf> {
@@ -90,21 +94,17 @@ impl EvalArgs {
                 ..TemplatePlanning::default()
             });
         }
-        if let Some(arg) = &self.task_networks {
-            s.learned = file_or_none(arg).map(|networks| LearnedPlanning {
-                networks,
-                ..LearnedPlanning::default()
-            });
-        }
-        match (&self.retry_templates, &mut s.learned) {
-            (Some(arg), Some(l)) => l.retry_templates = (arg != "same").then(|| arg.into()),
+        match (&self.retry_templates, &mut s.templates) {
+            (Some(arg), Some(t)) => t.retry_file = (arg != "same").then(|| arg.into()),
             (Some(_), None) => {
                 return Err(EvalError::BadArgument(
-                    "--retry-templates seeds the learned planner: not with --task-networks none"
-                        .into(),
+                    "--retry-templates: not with --templates none".into(),
                 ));
             }
             (None, _) => {}
+        }
+        if let Some(arg) = &self.task_networks {
+            s.learned = file_or_none(arg).map(|networks| LearnedPlanning { networks });
         }
         if let Some(path) = &self.planner {
             s.planner = read_json(path)?;
@@ -195,10 +195,11 @@ enum Command {
         /// learned planner as `plan` seeds it.
         #[arg(long, default_value = "artifacts/templates.json")]
         templates: String,
-        /// Templates seeding the learned planner's second attempt, where
-        /// the first misses, as `plan` seeds it (`same`: --templates).
-        #[arg(long, default_value = "artifacts/templates_grown.json")]
-        retry_templates: String,
+        /// Templates a plan that misses is planned again from, as `plan`
+        /// seeds it (default artifacts/templates_grown.json; with
+        /// --templates none, none; `same`: --templates).
+        #[arg(long)]
+        retry_templates: Option<String>,
         /// Folder of the dig networks whose greedy planner is compared
         /// (`none`: not run).
         #[arg(long, default_value = "artifacts")]
@@ -423,6 +424,11 @@ fn run(cli: Cli) -> Result<(), EvalError> {
             let dig_networks = match dig_networks.as_str() {
                 "none" => None,
                 dir => Some(Networks::load(std::path::Path::new(dir))?),
+            };
+            let retry_templates = match (retry_templates, templates.as_str()) {
+                (Some(r), _) => r,
+                (None, "none") => "same".into(),
+                (None, _) => DEFAULT_RETRY_TEMPLATES.into(),
             };
             let templates =
                 TemplatePlanning::load_arg(&templates).map_err(EvalError::BadArgument)?;

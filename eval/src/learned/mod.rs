@@ -46,9 +46,9 @@ pub struct LearnedRow {
 /// out), and the templates that seed it.
 #[derive(Debug, Clone, Default)]
 pub struct Compared {
-    /// The template planner's, and the learned planner's first attempt's.
+    /// The template planner's and the learned planner's first attempt's.
     pub templates: Vec<Template>,
-    /// The learned planner's second attempt's ([`SeedTemplates::retry`]).
+    /// Their second attempt's ([`SeedTemplates::retry`]).
     pub retry_templates: Vec<Template>,
     pub dig_networks: Option<Networks>,
 }
@@ -174,7 +174,7 @@ pub fn compare(
     if !compared.templates.is_empty() {
         let name = format!("templates ({})", bound_label(settings));
         for t in tasks {
-            let plan = planner.plan_from_templates(&t.task, &compared.templates, settings);
+            let plan = planner.plan_from_templates(&t.task, library, settings);
             rows.push(row(t, &name, plan));
             bar.inc(1);
         }

@@ -59,7 +59,7 @@ pub extern "C" fn infer_template_task_a_digs() -> i32 {
     let Ok(template) = infer::Template::new(task, &[dig, dig]) else { return -1 };
     let Ok(mut work) = infer::TemplateWork::new(&planner) else { return -1 };
     let settings = infer::TemplateSettings { max_evaluations: 100, ..Default::default() };
-    match work.plan(&planner, &task, &[template], &settings) {
+    match work.plan(&planner, &task, infer::SeedTemplates::same(&[template]), &settings) {
         Ok(()) => work.len() as i32,
         Err(_) => -1,
     }

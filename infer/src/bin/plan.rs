@@ -54,13 +54,14 @@ struct Args {
     /// beside the network's sequences, or `none` for the network's alone
     #[arg(long, conflicts_with = "templates", default_value = DEFAULT_SEED_TEMPLATES)]
     seed_templates: PathBuf,
-    /// The template library whose nearest plans seed the learned planner's
-    /// second attempt (`dataset_gen grow-templates`), where the first
-    /// misses the design by more than the settings' tolerance, or `same`
-    /// for --seed-templates' (with --seed-templates none: the network's
-    /// alone)
-    #[arg(long, conflicts_with = "templates", default_value = DEFAULT_RETRY_TEMPLATES)]
-    retry_templates: PathBuf,
+    /// The template library whose nearest plans seed a second attempt
+    /// (`dataset_gen grow-templates`; default
+    /// artifacts/templates_grown.json, or none with --seed-templates none),
+    /// where the first misses the design by more than the settings'
+    /// tolerance, or `same` for the first's (--templates or
+    /// --seed-templates)
+    #[arg(long)]
+    retry_templates: Option<PathBuf>,
     /// Template planner settings as JSON (any field left out keeps its
     /// default), also the learned planner's.
     #[arg(long)]
@@ -96,7 +97,7 @@ struct Args {
 const DEFAULT_TASK_NETWORK: &str = "artifacts/task_network/seed_1.json";
 /// The templates that seed it too (the chained library's plans).
 const DEFAULT_SEED_TEMPLATES: &str = "artifacts/templates.json";
-/// The templates that seed its second attempt (those, grown).
+/// The templates that seed a second attempt (those, grown).
 const DEFAULT_RETRY_TEMPLATES: &str = "artifacts/templates_grown.json";
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -198,8 +199,8 @@ fn run(args: Args) -> Result<(), String> {
         .learned
         .clone()
         .unwrap_or_else(|| PathBuf::from(DEFAULT_TASK_NETWORK));
-    // The templates given (to plan from, or to seed the task network's
-    // first attempt and its retry): the plan's origin names one of them.
+    // The templates given (to plan from, or to seed the task network), and
+    // those of a retry: the plan's origin names one of them.
     let mut templates = Vec::new();
     let mut retry_templates = Vec::new();
     let load = |path: &Path, what: &str| -> Result<Vec<Template>, String> {
@@ -208,13 +209,29 @@ fn run(args: Args) -> Result<(), String> {
             .map_err(|e| format!("{}: {e}", path.display()))?
             .templates)
     };
+    let load_retry = |first: &Vec<Template>| -> Result<Vec<Template>, String> {
+        let default = match args.seed_templates.as_os_str() == "none" && args.templates.is_none() {
+            true => Path::new("same"),
+            false => Path::new(DEFAULT_RETRY_TEMPLATES),
+        };
+        let r = args.retry_templates.as_deref().unwrap_or(default);
+        if r.as_os_str() == "same" {
+            return Ok(first.clone());
+        }
+        load(
+            r,
+            "the templates seeding a retry; give --retry-templates FILE, or same",
+        )
+    };
     let planned = match (&args.templates, greedy) {
         (Some(path), _) => {
             templates = load(path, "the templates to plan from")?;
-            Some((
-                "templates",
-                planner.plan_from_templates(&task, &templates, &ts),
-            ))
+            retry_templates = load_retry(&templates)?;
+            let seeds = SeedTemplates {
+                first: &templates,
+                retry: &retry_templates,
+            };
+            Some(("templates", planner.plan_from_templates(&task, seeds, &ts)))
         }
         (None, false) => {
             let path = &learned;
@@ -231,15 +248,7 @@ fn run(args: Args) -> Result<(), String> {
                     "the templates seeding the task network; give --seed-templates FILE, or none",
                 )?;
             }
-            let r = &args.retry_templates;
-            retry_templates = if r.as_os_str() == "same" {
-                templates.clone()
-            } else {
-                load(
-                    r,
-                    "the templates seeding a retry; give --retry-templates FILE, or same",
-                )?
-            };
+            retry_templates = load_retry(&templates)?;
             let seeds = SeedTemplates {
                 first: &templates,
                 retry: &retry_templates,

@@ -128,15 +128,16 @@ impl Template {
     }
 }
 
-/// The templates a learned plan carries over as seeds: the nearest of
-/// `first` in its first attempt, of `retry` in its second
+/// The templates a plan carries over as seeds: the nearest of `first` in
+/// its first attempt, of `retry` in its second
 /// ([`TemplateSettings::retry`]).
 ///
-/// Why two sets: the shipped templates grown by the planner's own plans of
-/// fresh tasks (`dataset_gen grow-templates`) seed the first attempt
-/// worse than the shipped ones (more misses, though a lower mean) but a
-/// retry better, from the basins the first attempt did not reach (the
-/// crate's README).
+/// Why two sets: a retry from the first attempt's seeds with the same
+/// bound runs the same race again. The shipped templates grown by the
+/// learned planner's own plans of fresh tasks (`dataset_gen
+/// grow-templates`) seed a first attempt worse than the shipped ones
+/// (more misses, though a lower mean) but a retry better, from basins the
+/// first did not reach (the crate's README).
 #[derive(Debug, Clone, Copy)]
 pub struct SeedTemplates<'a> {
     pub first: &'a [Template],
@@ -144,7 +145,8 @@ pub struct SeedTemplates<'a> {
 }
 
 impl<'a> SeedTemplates<'a> {
-    /// No templates: the network's sequences alone seed both attempts.
+    /// No templates: a learned plan's network sequences alone seed both
+    /// attempts.
     pub const NONE: SeedTemplates<'static> = SeedTemplates {
         first: &[],
         retry: &[],

@@ -34,7 +34,7 @@ impl Champion {
 #[derive(Clone, Copy)]
 enum Source<'s, 'n> {
     /// The nearest of these templates, carried over.
-    Templates(&'s [Template]),
+    Templates(SeedTemplates<'s>),
     /// The network's sequence for the task, and the nearest of these
     /// templates, carried over.
     Network(&'s TaskNetwork<'n>, SeedTemplates<'s>),
@@ -44,7 +44,7 @@ impl<'s, 'n> Source<'s, 'n> {
     /// Where a second attempt's seeds come from.
     fn for_retry(self) -> Self {
         match self {
-            Source::Templates(_) => self,
+            Source::Templates(t) => Source::Templates(SeedTemplates::same(t.retry)),
             Source::Network(net, t) => Source::Network(net, SeedTemplates::same(t.retry)),
         }
     }
@@ -65,16 +65,18 @@ pub(super) struct Seeds {
 }
 
 impl TemplateWork {
-    /// Plans `task` from the nearest of `templates`: see the module doc.
-    /// On success the digs are read with [`Self::dig`].
+    /// Plans `task` from the nearest of `templates` (of
+    /// [`SeedTemplates::first`], and of [`SeedTemplates::retry`] in a
+    /// second attempt): see the module doc. On success the digs are read
+    /// with [`Self::dig`].
     pub fn plan(
         &mut self,
         planner: &Planner,
         task: &TrenchTask,
-        templates: &[Template],
+        templates: SeedTemplates<'_>,
         settings: &TemplateSettings,
     ) -> Result<(), PlanError> {
-        if templates.is_empty() {
+        if templates.first.is_empty() {
             return Err(PlanError::NoTemplate);
         }
         self.plan_from(planner, task, Source::Templates(templates), settings)
@@ -249,7 +251,7 @@ impl TemplateWork {
         self.skew = settings.skew;
         match source {
             Source::Templates(templates) => {
-                self.skew |= self.nearest_seeds(&mut near, templates, expected, settings, 0);
+                self.skew |= self.nearest_seeds(&mut near, templates.first, expected, settings, 0);
             }
             Source::Network(net, templates) => {
                 // One library plan in six has a dig fewer or more than
