@@ -244,7 +244,17 @@ fn templates_plan_verifies_and_falls_back_to_the_networks() {
     let templates = format!("{artifacts}/templates.json");
     let stem = dir.join("b");
     let stem = stem.to_str().unwrap();
-    let o = plan(&["--task", "B", "--templates", &templates, "-o", stem]);
+    let grown = format!("{artifacts}/templates_grown.json");
+    let o = plan(&[
+        "--task",
+        "B",
+        "--templates",
+        &templates,
+        "--retry-templates",
+        &grown,
+        "-o",
+        stem,
+    ]);
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(out.contains("templated"), "{out}");
@@ -279,6 +289,8 @@ fn templates_plan_verifies_and_falls_back_to_the_networks() {
         "D",
         "--templates",
         &templates,
+        "--retry-templates",
+        "same",
         "--template-settings",
         settings.to_str().unwrap(),
         "--networks",
