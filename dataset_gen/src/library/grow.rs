@@ -11,7 +11,7 @@
 //! (`eval/experiments.md`, 2026-12-06). The first attempt keeps the
 //! shipped ones: from the grown set it misses more tasks.
 
-use super::write_whole;
+use super::{record_or_check, write_whole};
 use crate::error::Error;
 use crate::jobs::FolderLock;
 use crate::rng::fnv1a;
@@ -117,14 +117,12 @@ pub fn grow(
     let file = TaskNetworkFile::from_json(network_text).map_err(Error::BadArgument)?;
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     let _lock = FolderLock::acquire(dir, "grow.lock")?;
-    check_recorded(
-        dir,
-        &Recorded {
-            settings: *settings,
-            templates_fnv1a: fnv1a(templates_text.bytes()),
-            network_fnv1a: fnv1a(network_text.bytes()),
-        },
-    )?;
+    let recorded = Recorded {
+        settings: *settings,
+        templates_fnv1a: fnv1a(templates_text.bytes()),
+        network_fnv1a: fnv1a(network_text.bytes()),
+    };
+    record_or_check(&dir.join(SETTINGS_FILE), &recorded, "grown")?;
     let per = settings.part_tasks;
     let parts = settings.tasks.div_ceil(per);
     let part_path = |p: usize| dir.join(format!("part_{p:04}.json"));
@@ -208,27 +206,4 @@ fn plan_kept(
         return Ok(None);
     }
     Ok(Some(Template::from_plan(planner, &plan)?))
-}
-
-/// Writes `recorded` to `dir`, or checks it against what is there.
-fn check_recorded(dir: &Path, recorded: &Recorded) -> Result<(), Error> {
-    let path = dir.join(SETTINGS_FILE);
-    match std::fs::read_to_string(&path) {
-        Ok(text) => {
-            let old: Recorded = serde_json::from_str(&text).map_err(|e| {
-                Error::BadArgument(format!("{}: not growth settings ({e})", path.display()))
-            })?;
-            if old != *recorded {
-                return Err(Error::BadSettings(format!(
-                    "{} was grown with other settings or inputs ({text}); use another folder or the same",
-                    dir.display()
-                )));
-            }
-            Ok(())
-        }
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            write_whole(&path, &serde_json::to_string_pretty(recorded)?)
-        }
-        Err(e) => Err(Error::io(&path, e)),
-    }
 }

@@ -355,6 +355,37 @@ fn parse_manifest(path: &Path, text: &str) -> Result<LibrarySettings, Error> {
 
 /// `text` written to `path` through a temporary file of this process, so
 /// a reader never sees half of it and two writers never share one.
+/// Writes `value` to `path`, or checks it against the one there: a folder
+/// an interrupted job resumes in was `made` (e.g. "repaired") with these
+/// settings, or is refused.
+fn record_or_check<T>(path: &Path, value: &T, made: &str) -> Result<(), Error>
+where
+    T: Serialize + serde::de::DeserializeOwned + PartialEq,
+{
+    match std::fs::read_to_string(path) {
+        Ok(text) => {
+            let old: T = serde_json::from_str(&text).map_err(|e| {
+                Error::BadArgument(format!(
+                    "{}: not the settings expected ({e})",
+                    path.display()
+                ))
+            })?;
+            if old != *value {
+                let dir = path.parent().unwrap_or(path);
+                return Err(Error::BadSettings(format!(
+                    "{} was {made} with other settings or inputs ({text}); use another folder or the same",
+                    dir.display()
+                )));
+            }
+            Ok(())
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            write_whole(path, &serde_json::to_string_pretty(value)?)
+        }
+        Err(e) => Err(Error::io(path, e)),
+    }
+}
+
 fn write_whole(path: &Path, text: &str) -> Result<(), Error> {
     let mut tmp = path.as_os_str().to_owned();
     tmp.push(format!(".{}.tmp", std::process::id()));

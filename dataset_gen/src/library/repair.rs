@@ -9,7 +9,7 @@
 //! near it. A cold search of the same dig family plans those tasks
 //! within the tolerance (`eval/experiments.md`, 2026-12-05).
 
-use super::{Library, MANIFEST, parse_manifest, write_whole};
+use super::{Library, MANIFEST, parse_manifest, record_or_check, write_whole};
 use crate::error::Error;
 use crate::jobs::FolderLock;
 use crate::rng::derive_seed;
@@ -115,7 +115,7 @@ pub fn repair(
     let manifest = parse_manifest(&manifest_path, &manifest_text)?;
     std::fs::create_dir_all(to).map_err(|e| Error::io(to, e))?;
     let _lock = FolderLock::acquire(to, "repair.lock")?;
-    check_settings(to, settings)?;
+    record_or_check(&to.join(SETTINGS_FILE), settings, "repaired")?;
     write_whole(&to.join(MANIFEST), &manifest_text)?;
     if let Some(bar) = bar {
         // What is left to search: a resume skips the plans already written.
@@ -165,27 +165,4 @@ pub fn repair(
             .push((name.to_string(), error(plan), error(kept)));
     }
     Ok(report)
-}
-
-/// Writes `settings` to `dir`, or checks them against those there.
-fn check_settings(dir: &Path, settings: &RepairSettings) -> Result<(), Error> {
-    let path = dir.join(SETTINGS_FILE);
-    match std::fs::read_to_string(&path) {
-        Ok(text) => {
-            let old: RepairSettings = serde_json::from_str(&text).map_err(|e| {
-                Error::BadArgument(format!("{}: not repair settings ({e})", path.display()))
-            })?;
-            if old != *settings {
-                return Err(Error::BadSettings(format!(
-                    "{} was repaired with other settings ({text}); use another folder or the same settings",
-                    dir.display()
-                )));
-            }
-            Ok(())
-        }
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            write_whole(&path, &serde_json::to_string_pretty(settings)?)
-        }
-        Err(e) => Err(Error::io(&path, e)),
-    }
 }
