@@ -193,12 +193,12 @@ pub fn measure(
     if !templates.is_empty() {
         let ts = TemplateSettings::default();
         let mut work = Box::new(TemplateWork::new(&planner)?);
+        // A–D end within the tolerance: no retry runs, so the retry's
+        // templates are the first's.
+        let seeds = SeedTemplates::same(templates);
         for t in &tasks {
             let mut outcome = String::new();
             let time = median_time(settings.plan_repeats, || {
-                // A–D end within the tolerance: no retry runs, so the
-                // retry's templates are the first's.
-                let seeds = SeedTemplates::same(templates);
                 outcome = match work.plan(&planner, &t.task, seeds, &ts) {
                     Ok(()) => {
                         let m = work.metrics();

@@ -139,11 +139,14 @@ pub struct TemplatePlanning {
     pub settings: TemplateSettings,
 }
 
+/// The shipped retry templates (`dataset_gen grow-templates`).
+pub const GROWN_TEMPLATES: &str = "artifacts/templates_grown.json";
+
 impl Default for TemplatePlanning {
     fn default() -> Self {
         TemplatePlanning {
             file: "artifacts/templates.json".into(),
-            retry_file: Some("artifacts/templates_grown.json".into()),
+            retry_file: Some(GROWN_TEMPLATES.into()),
             settings: TemplateSettings::default(),
         }
     }

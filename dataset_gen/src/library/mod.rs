@@ -353,8 +353,6 @@ fn parse_manifest(path: &Path, text: &str) -> Result<LibrarySettings, Error> {
         .map_err(|e| Error::BadArgument(format!("{}: not library settings ({e})", path.display())))
 }
 
-/// `text` written to `path` through a temporary file of this process, so
-/// a reader never sees half of it and two writers never share one.
 /// Writes `value` to `path`, or checks it against the one there: a folder
 /// an interrupted job resumes in was `made` (e.g. "repaired") with these
 /// settings, or is refused.
@@ -386,6 +384,8 @@ where
     }
 }
 
+/// `text` written to `path` through a temporary file of this process, so
+/// a reader never sees half of it and two writers never share one.
 fn write_whole(path: &Path, text: &str) -> Result<(), Error> {
     let mut tmp = path.as_os_str().to_owned();
     tmp.push(format!(".{}.tmp", std::process::id()));

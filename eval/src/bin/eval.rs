@@ -68,9 +68,6 @@ struct EvalArgs {
     retry_templates: Option<String>,
 }
 
-/// The templates a plan that misses is planned again from, unless told.
-const DEFAULT_RETRY_TEMPLATES: &str = "artifacts/templates_grown.json";
-
 /// A file or folder argument that may be `none` (the step is not run).
 fn file_or_none(arg: &str) -> Option<PathBuf> {
     (arg != "none").then(|| arg.into())
@@ -428,7 +425,7 @@ fn run(cli: Cli) -> Result<(), EvalError> {
             let retry_templates = match (retry_templates, templates.as_str()) {
                 (Some(r), _) => r,
                 (None, "none") => "same".into(),
-                (None, _) => DEFAULT_RETRY_TEMPLATES.into(),
+                (None, _) => eval::whole::GROWN_TEMPLATES.into(),
             };
             let templates =
                 TemplatePlanning::load_arg(&templates).map_err(EvalError::BadArgument)?;
