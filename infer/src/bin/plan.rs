@@ -209,14 +209,17 @@ fn run(args: Args) -> Result<(), String> {
             .map_err(|e| format!("{}: {e}", path.display()))?
             .templates)
     };
-    let load_retry = |first: &Vec<Template>| -> Result<Vec<Template>, String> {
-        let default = match args.seed_templates.as_os_str() == "none" && args.templates.is_none() {
-            true => Path::new("same"),
-            false => Path::new(DEFAULT_RETRY_TEMPLATES),
-        };
+    // The network alone (--seed-templates none) is retried alone unless told.
+    let alone = args.seed_templates.as_os_str() == "none" && args.templates.is_none();
+    let default = Path::new(if alone {
+        "same"
+    } else {
+        DEFAULT_RETRY_TEMPLATES
+    });
+    let load_retry = |first: &[Template]| -> Result<Vec<Template>, String> {
         let r = args.retry_templates.as_deref().unwrap_or(default);
         if r.as_os_str() == "same" {
-            return Ok(first.clone());
+            return Ok(first.to_vec());
         }
         load(
             r,
