@@ -22,6 +22,14 @@ fn artifact(name: &str) -> String {
     std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
+/// The shipped templates and seed 1's task network, as text.
+fn inputs() -> (String, String) {
+    (
+        artifact("templates.json"),
+        artifact("task_network/seed_1.json"),
+    )
+}
+
 /// Five tasks in parts of two, at the least bound; plans within 10 % kept.
 fn small() -> GrowSettings {
     GrowSettings {
@@ -55,10 +63,7 @@ fn part(dir: &Path, p: usize) -> PathBuf {
 #[test]
 fn a_growth_keeps_the_planners_plans_and_resumes_to_the_same_file() {
     let planner = planner();
-    let (templates, network) = (
-        artifact("templates.json"),
-        artifact("task_network/seed_1.json"),
-    );
+    let (templates, network) = inputs();
     let settings = small();
     let dir = fresh_dir("resume");
     let first = grow(&planner, &templates, &network, &settings, &dir, None).unwrap();
@@ -128,10 +133,7 @@ fn a_growth_keeps_the_planners_plans_and_resumes_to_the_same_file() {
 #[test]
 fn bad_settings_and_inputs_are_refused_before_any_work() {
     let planner = planner();
-    let (templates, network) = (
-        artifact("templates.json"),
-        artifact("task_network/seed_1.json"),
-    );
+    let (templates, network) = inputs();
     let dir = fresh_dir("bad");
     for bad in [
         GrowSettings {

@@ -1,6 +1,12 @@
 //! The `plan` command, run as a user would.
 use std::process::Command;
 
+/// The shipped task network of training seed 1.
+const SEED_1_NETWORK: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../artifacts/task_network/seed_1.json"
+);
+
 fn plan(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_plan"))
         .args(args)
@@ -97,10 +103,7 @@ fn bad_tasks_and_missing_networks_are_clear_errors() {
                 "--task",
                 "A",
                 "--learned",
-                concat!(
-                    env!("CARGO_MANIFEST_DIR"),
-                    "/../artifacts/task_network/seed_1.json"
-                ),
+                SEED_1_NETWORK,
                 "--seed-templates",
                 "/nonexistent",
             ],
@@ -111,10 +114,7 @@ fn bad_tasks_and_missing_networks_are_clear_errors() {
                 "--task",
                 "A",
                 "--learned",
-                concat!(
-                    env!("CARGO_MANIFEST_DIR"),
-                    "/../artifacts/task_network/seed_1.json"
-                ),
+                SEED_1_NETWORK,
                 "--seed-templates",
                 concat!(env!("CARGO_MANIFEST_DIR"), "/../artifacts/templates.json"),
                 "--retry-templates",
