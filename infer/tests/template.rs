@@ -239,6 +239,61 @@ fn a_plan_too_fast_for_its_limits_is_retimed_before_it_is_given_up() {
     assert!(retimed.digs.iter().any(|r| r.dig.params.duration > 6.5));
 }
 
+/// A retry counts the under-dug area beyond the tolerance again
+/// (`retry_excess`); whatever the weight, the plan returned is within the
+/// tolerance or no worse by the plain sum than the first attempt's.
+#[test]
+fn a_retry_weighs_the_under_dug_excess_and_never_returns_worse() {
+    let p = planner();
+    let templates = shipped_templates();
+    let seeds = SeedTemplates::same(&templates);
+    let missed = |plan: &Plan| plan.metrics.under_dug + plan.metrics.over_dug;
+    let once = TemplateSettings {
+        neighbours: 2,
+        max_evaluations: 100,
+        retry: 0,
+        tolerance: 0.01,
+        ..TemplateSettings::default()
+    };
+    let mut acted = false;
+    for id in ['A', 'C', 'D'] {
+        let task = TrenchTask::reference(id).unwrap();
+        let first = p.plan_from_templates(&task, seeds, &once);
+        let mut plans = Vec::new();
+        for retry_excess in [0.0, 10.0, 1000.0] {
+            let settings = TemplateSettings {
+                retry: 600,
+                retry_excess,
+                ..once
+            };
+            let plan = p.plan_from_templates(&task, seeds, &settings).unwrap();
+            assert_eq!(plan.verify(&p).unwrap(), plan.metrics);
+            let within = plan.metrics.under_dug <= 0.01 && plan.metrics.over_dug <= 0.01;
+            assert!(
+                within
+                    || first.as_ref().is_ok_and(|f| missed(&plan) <= missed(f))
+                    || first.is_err(),
+                "{id} at {retry_excess}: a retry returned a worse plan"
+            );
+            plans.push(plan.metrics);
+        }
+        acted |= plans[1] != plans[0];
+    }
+    assert!(acted, "the excess changed no retry");
+    for bad in [-1.0, f64::NAN, f64::INFINITY] {
+        let settings = TemplateSettings {
+            retry: 600,
+            retry_excess: bad,
+            ..once
+        };
+        let task = TrenchTask::reference('A').unwrap();
+        assert!(
+            p.plan_from_templates(&task, seeds, &settings).is_err(),
+            "{bad} taken"
+        );
+    }
+}
+
 #[test]
 fn a_plan_outside_the_tolerance_is_retried_and_the_better_kept() {
     let p = planner();
@@ -254,10 +309,13 @@ fn a_plan_outside_the_tolerance_is_retried_and_the_better_kept() {
         .plan_from_templates(&task, SeedTemplates::same(&templates), &once)
         .unwrap();
     let missed = |plan: &Plan| plan.metrics.under_dug + plan.metrics.over_dug;
-    // Any plan that leaves material is outside a zero tolerance.
+    // Any plan that leaves material is outside a zero tolerance; the
+    // retry's value the plain sum, as the first's (the excess has its
+    // own test).
     let retry = TemplateSettings {
         retry: 600,
         tolerance: 0.0,
+        retry_excess: 0.0,
         ..once
     };
     let mut work = Box::new(TemplateWork::new(&p).unwrap());

@@ -5,8 +5,8 @@
 
 use super::learned::TaskNetwork;
 use super::{
-    Champion, MAX_TEMPLATE_DIGS, Played, SeedTemplates, Steps, Template, TemplateSettings,
-    TemplateWork, WINDOW, WINDOW_AFTER, WINDOW_BEFORE,
+    Champion, EXCESS_MARGIN, Excess, MAX_TEMPLATE_DIGS, Played, SeedTemplates, Steps, Template,
+    TemplateSettings, TemplateWork, WINDOW, WINDOW_AFTER, WINDOW_BEFORE,
 };
 use crate::planner::{PlanError, Planner};
 use crate::sequence::MAX_NEIGHBOURS;
@@ -117,8 +117,9 @@ impl TemplateWork {
 
     /// One attempt ([`Self::attempt`]), and where its plan misses the
     /// design by more than [`TemplateSettings::tolerance`] (or there is
-    /// none), a second with [`TemplateSettings::retry`] evaluations; the
-    /// better plan is kept.
+    /// none), a second with [`TemplateSettings::retry`] evaluations that
+    /// counts the under-dug excess ([`TemplateSettings::retry_excess`]);
+    /// the better plan is kept.
     fn plan_from(
         &mut self,
         planner: &Planner,
@@ -128,6 +129,7 @@ impl TemplateWork {
     ) -> Result<(), PlanError> {
         settings.validate(planner.config())?;
         self.retried = false;
+        self.excess = Excess::default();
         let first = self.attempt(planner, task, source, settings);
         if settings.retry == 0 || (first.is_ok() && self.within(settings.tolerance)) {
             return first;
@@ -145,10 +147,22 @@ impl TemplateWork {
             max_evaluations: settings.retry - reserve,
             ..*settings
         };
+        self.excess = Excess {
+            weight: settings.retry_excess,
+            from: (settings.tolerance - EXCESS_MARGIN).max(0.0),
+        };
         let second = self.attempt(planner, task, source.for_retry(), &again);
         self.evaluations += spent;
+        // Kept: a retried plan within the tolerance, else the better by
+        // the first attempt's value.
+        let retried_better = second.is_ok()
+            && (self.within(settings.tolerance)
+                || kept
+                    .as_ref()
+                    .is_none_or(|k| self.plain_value(settings.weight_objective) < k.plan.value));
+        self.excess = Excess::default();
         match kept {
-            Some(k) if second.is_err() || k.plan.value <= self.best.value => {
+            Some(k) if !retried_better => {
                 self.replay(planner, &k.plan, settings);
                 self.stretch = k.stretch;
                 self.dig_evaluations = k.dig_evaluations;

@@ -1,7 +1,7 @@
 //! The working memory's sequences: playing a candidate from one of its
 //! digs on, over the window of terrain the plan may carve.
 
-use super::{DigScore, MAX_TEMPLATE_DIGS, Played, Side, TemplateWork, WINDOW};
+use super::{DigScore, Excess, MAX_TEMPLATE_DIGS, Played, Side, TemplateWork, WINDOW};
 use crate::config::Config;
 use crate::dig::Reference;
 use crate::error::Error;
@@ -44,6 +44,7 @@ impl TemplateWork {
             skew: false,
             racers: [None; MAX_NEIGHBOURS],
             design_heights: [0.0; WINDOW],
+            excess: Excess::default(),
         })
     }
 
@@ -206,7 +207,8 @@ impl TemplateWork {
     }
 
     /// The working terrain's under- plus over-dug fraction of the design,
-    /// bit for bit [`DesignProfile::compare`]'s, over the window alone with
+    /// bit for bit [`DesignProfile::compare`]'s (and a retry's
+    /// [`Excess`]), over the window alone with
     /// the design's heights kept: outside the window the terrain is the
     /// task's flat start at ground level, as is the design, so those nodes
     /// add exact zeros. Why: the whole surface's comparison took a ninth
@@ -226,7 +228,26 @@ impl TemplateWork {
             let m = self.design.compare(&self.terrain);
             (m.under_dug + m.over_dug).to_bits()
         });
-        error
+        let Excess { weight, from } = self.excess;
+        if weight > 0.0 {
+            error + weight * (under * dx / area - from).max(0.0)
+        } else {
+            error
+        }
+    }
+
+    /// The best plan's value without a retry's excess, as a first attempt
+    /// counts it: what a retried plan and a first one are compared by.
+    pub(super) fn plain_value(&mut self, weight_objective: f64) -> f64 {
+        let excess = core::mem::take(&mut self.excess);
+        self.load(Side::Best, self.best.count);
+        let n = self.best.count;
+        let objective = self.best.score[..n]
+            .iter()
+            .fold(0.0, |a, s| a + s.objective);
+        let value = self.profile_error() + weight_objective * objective / n as f64;
+        self.excess = excess;
+        value
     }
 
     /// The candidate, which differs from the best from dig `j` on, becomes the best.
