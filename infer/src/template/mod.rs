@@ -247,9 +247,9 @@ pub struct TemplateSettings {
     /// for, against the under-dug area that made it miss. The first
     /// attempt keeps the plain sum: there the same term lost plans. A
     /// retried plan within the tolerance is kept, else the better by the
-    /// plain sum. Over fresh seeds 11–13 of `eval learned` and three
-    /// networks (2026-12-06): 10 misses of 576 at 10 against 15 at 0,
-    /// 11 at 3 and 14 at 30.
+    /// first attempt's value. Over fresh seeds 11–13 of `eval learned`
+    /// and three networks (2026-12-06): 10 misses of 576 at 10 against
+    /// 15 at 0 and 11 at 3; at 30, 9 on seeds 11–12 against 6 at 10.
     pub retry_excess: f64,
 }
 
