@@ -5,7 +5,10 @@
 
 use infer::plan::Origin;
 use infer::sequence::{DIG_VARS, SPEC_VARS};
-use infer::template::learned::{SKEWED_TASK_OUTPUTS, TASK_INPUTS, TASK_OUTPUTS, box_coordinates};
+use infer::template::learned::{
+    HYPOTHESES_TASK_OUTPUTS, SKEWED_TASK_OUTPUTS, TASK_HYPOTHESES, TASK_INPUTS, TASK_OUTPUTS,
+    box_coordinates,
+};
 use infer::template::{
     MAX_TEMPLATE_DIGS, MIN_EVALUATIONS, SeedTemplates, TaskNetwork, TaskNetworkFile,
     TemplateSettings, TemplateWork,
@@ -323,4 +326,69 @@ fn the_least_bound_holds_with_every_seed_racing() {
             work.evaluations()
         );
     }
+}
+
+/// A network of three hypotheses seeds with the one its screen ranks
+/// best: here two are mid-box sequences and one is the template A is
+/// planned from, and the plan comes out as good as that template's
+/// network alone plans it. At the least bound there is no room to screen,
+/// and the first hypothesis is the seed.
+#[test]
+fn the_screen_picks_among_a_networks_hypotheses() {
+    let planner = planner();
+    let (_, single, template) = network_of_width(&planner, DIG_VARS);
+    let u = &single[2 * TASK_INPUTS..2 * TASK_INPUTS + SKEWED_TASK_OUTPUTS];
+    let poor = |c: f64| vec![c; SKEWED_TASK_OUTPUTS];
+    let (widths, params) = constant_network(&[poor(0.5), u.to_vec(), poor(0.3)].concat());
+    assert_eq!(widths[2], HYPOTHESES_TASK_OUTPUTS);
+    let net = TaskNetwork::new(&widths, &params).unwrap();
+    assert_eq!(net.hypotheses(), TASK_HYPOTHESES);
+    let task = TrenchTask::reference('A').unwrap();
+    let design = DesignProfile::new(planner.config(), &task);
+    let count = template.digs().len();
+    let cfg = planner.config();
+    let second = net
+        .predict_hypothesis(cfg, &task, &design, count, 1)
+        .unwrap();
+    let carried = template.carried_to(cfg, &design);
+    for (a, b) in second.digs().iter().zip(&carried[..count]) {
+        assert!(a.iter().zip(b).all(|(a, b)| (a - b).abs() < 1e-12));
+    }
+    assert!(
+        net.predict_hypothesis(cfg, &task, &design, count, 3)
+            .is_err()
+    );
+
+    let (w0, p0) = constant_network(&poor(0.5));
+    let first_alone = TaskNetwork::new(&w0, &p0).unwrap();
+    let (w1, p1) = constant_network(u);
+    let template_alone = TaskNetwork::new(&w1, &p1).unwrap();
+    let settings = TemplateSettings {
+        max_evaluations: 1200,
+        retry: 0,
+        ..TemplateSettings::default()
+    };
+    // Under- plus over-dug area (∞ for no plan) and the plan or error.
+    let error = |net: &TaskNetwork, settings: &TemplateSettings| match planner
+        .plan_learned(&task, net, settings)
+    {
+        Ok(plan) => {
+            assert_eq!(plan.verify(&planner).unwrap(), plan.metrics);
+            let m = plan.metrics;
+            (m.under_dug + m.over_dug, format!("{:?}", plan.digs))
+        }
+        Err(e) => (f64::INFINITY, format!("{e:?}")),
+    };
+    let (screened, _) = error(&net, &settings);
+    let (from_template, _) = error(&template_alone, &settings);
+    let (from_first, _) = error(&first_alone, &settings);
+    assert!(
+        screened < from_first && screened <= from_template + 0.005,
+        "screened {screened}, the template alone {from_template}, the first alone {from_first}"
+    );
+    let least = TemplateSettings {
+        max_evaluations: MIN_EVALUATIONS,
+        ..settings
+    };
+    assert_eq!(error(&net, &least).1, error(&first_alone, &least).1);
 }

@@ -5,6 +5,11 @@
 //! stored in the module, as [`crate::network::DigNet`]; [`TaskNet::export`]
 //! writes the `task-network/2` file that `infer::template::TaskNetwork`
 //! evaluates.
+//!
+//! With K > 1 hypotheses (`TaskNet::init`'s `hypotheses`) the last layer
+//! gives K whole sequences side by side, [B, K·P]: trained by the winner
+//! of each task (multiple-choice learning, `train::tasks`), each can keep
+//! to one basin of the library's plans instead of their average.
 
 use crate::dense::{self, buffer_like, row, to_f64};
 use burn::module::{Module, Param};
@@ -36,13 +41,19 @@ pub struct TaskNormalisation {
 
 impl TaskNet {
     /// A fresh network with these hidden widths, seeded as
-    /// [`dense::seeded_layers`], normalised by `n`; as many outputs as `n`
-    /// has (`infer::template::learned::TASK_OUTPUTS`, or
-    /// `SKEWED_TASK_OUTPUTS` with the skews).
-    pub fn init(hidden: &[usize], n: &TaskNormalisation, device: &Device, seed: u64) -> Self {
+    /// [`dense::seeded_layers`], normalised by `n`; `hypotheses` times as
+    /// many outputs as `n` has (`infer::template::learned::TASK_OUTPUTS`,
+    /// or `SKEWED_TASK_OUTPUTS` with the skews).
+    pub fn init(
+        hidden: &[usize],
+        n: &TaskNormalisation,
+        device: &Device,
+        seed: u64,
+        hypotheses: usize,
+    ) -> Self {
         let mut widths = vec![TASK_INPUTS];
         widths.extend(hidden);
-        widths.push(n.y_mean.len());
+        widths.push(hypotheses * n.y_mean.len());
         let buffer = |v: &[f64]| dense::buffer(v.to_vec(), device);
         TaskNet {
             layers: dense::seeded_layers(&widths, device, seed),
@@ -54,15 +65,28 @@ impl TaskNet {
         }
     }
 
-    /// Raw X [B, 6] → normalised box coordinates [B, 60].
+    /// Outputs of one sequence (P: 60, or 78 with the skews).
+    pub fn plan_outputs(&self) -> usize {
+        self.y_mean.dims()[0]
+    }
+
+    /// Sequences the network gives per task (K).
+    pub fn hypotheses(&self) -> usize {
+        dense::widths(&self.layers).last().copied().unwrap_or(0) / self.plan_outputs()
+    }
+
+    /// Raw X [B, 6] → normalised box coordinates [B, K·P].
     pub fn forward(&self, x_raw: Tensor<2>) -> Tensor<2> {
         let h = (x_raw - row(self.x_mean.clone())) / row(self.x_std.clone());
         dense::forward(&self.layers, &self.activation, h)
     }
 
-    /// Normalised → box coordinates.
+    /// Normalised → box coordinates, [B, k·P] for any k.
     pub fn denormalise_y(&self, y_n: Tensor<2>) -> Tensor<2> {
-        y_n * row(self.y_std.clone()) + row(self.y_mean.clone())
+        let [b, width] = y_n.dims();
+        let p = self.plan_outputs();
+        let rows = y_n.reshape([b * width / p, p]);
+        (rows * row(self.y_std.clone()) + row(self.y_mean.clone())).reshape([b, width])
     }
 
     /// Box coordinates → normalised.
@@ -74,11 +98,18 @@ impl TaskNet {
         dense::weight_penalty(&self.layers)
     }
 
-    /// The weights in `infer`'s layout, tagged with the training seed.
+    /// The weights in `infer`'s layout, tagged with the training seed: its
+    /// μ_y and σ_y repeated for each hypothesis.
     pub fn export(&self, seed: u64) -> TaskNetworkFile {
         let mut params = Vec::new();
-        for p in [&self.x_mean, &self.x_std, &self.y_mean, &self.y_std] {
+        for p in [&self.x_mean, &self.x_std] {
             params.extend(to_f64(p.val()));
+        }
+        for p in [&self.y_mean, &self.y_std] {
+            let v = to_f64(p.val());
+            for _ in 0..self.hypotheses() {
+                params.extend(&v);
+            }
         }
         dense::push_layers(&mut params, &self.layers);
         TaskNetworkFile {

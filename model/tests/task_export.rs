@@ -2,24 +2,23 @@
 //! the same box coordinates as burn's, through the JSON file.
 
 use burn::prelude::*;
-use burn::tensor::{FloatDType, TensorData};
+use burn::tensor::TensorData;
 use infer::template::TaskNetworkFile;
 use infer::template::learned::{TASK_INPUTS, TASK_OUTPUTS};
 use model::task_net::{TaskNet, TaskNormalisation};
 
+mod common;
+
 #[test]
 fn export_matches_burns_forward_pass() {
-    let mut device = Device::default();
-    device
-        .configure(FloatDType::F64)
-        .expect("the CPU backend supports f64");
+    let device = common::device(true);
     let norm = TaskNormalisation {
         x_mean: vec![0.6, 0.13, 0.9, 0.9, 1.04, 3.2],
         x_std: vec![0.13, 0.04, 0.22, 0.22, 0.035, 1.1],
         y_mean: (0..TASK_OUTPUTS).map(|j| 0.3 + 0.005 * j as f64).collect(),
         y_std: (0..TASK_OUTPUTS).map(|j| 0.05 + 0.002 * j as f64).collect(),
     };
-    let net = TaskNet::init(&[16, 12], &norm, &device, 5);
+    let net = TaskNet::init(&[16, 12], &norm, &device, 5, 1);
     let file = TaskNetworkFile::from_json(&net.export(5).to_json()).unwrap();
     assert_eq!(file.widths, vec![TASK_INPUTS, 16, 12, TASK_OUTPUTS]);
     file.network().unwrap();
@@ -52,4 +51,41 @@ fn export_matches_burns_forward_pass() {
             );
         }
     }
+}
+
+/// A network of several hypotheses: `infer` reads its 234 outputs as
+/// three skewed sequences, each normalised as burn normalises it.
+#[test]
+fn hypotheses_export_as_infer_reads_them() {
+    use infer::template::learned::{HYPOTHESES_TASK_OUTPUTS, SKEWED_TASK_OUTPUTS, TASK_HYPOTHESES};
+    let device = common::device(true);
+    let p = SKEWED_TASK_OUTPUTS;
+    let norm = TaskNormalisation {
+        x_mean: vec![0.6, 0.13, 0.9, 0.9, 1.04, 3.2],
+        x_std: vec![0.13, 0.04, 0.22, 0.22, 0.035, 1.1],
+        y_mean: (0..p).map(|j| 0.3 + 0.005 * j as f64).collect(),
+        y_std: (0..p).map(|j| 0.05 + 0.002 * j as f64).collect(),
+    };
+    let net = TaskNet::init(&[16], &norm, &device, 5, TASK_HYPOTHESES);
+    assert_eq!(net.hypotheses(), TASK_HYPOTHESES);
+    let file = TaskNetworkFile::from_json(&net.export(5).to_json()).unwrap();
+    assert_eq!(file.widths, vec![TASK_INPUTS, 16, HYPOTHESES_TASK_OUTPUTS]);
+    let read = file.network().unwrap();
+    assert!(read.skewed() && read.hypotheses() == TASK_HYPOTHESES);
+    let task = [0.6, 0.13, 1.0, 1.0, 1.03, 3.0];
+    let x = Tensor::<2>::from_data(TensorData::new(task.to_vec(), [1, TASK_INPUTS]), &device);
+    let burn_y = net
+        .denormalise_y(net.forward(x))
+        .into_data()
+        .try_into_vec_as::<f64>()
+        .unwrap();
+    let (widths, params) = (file.widths.clone(), file.params.clone());
+    let plain: infer::network::Network<'_, TASK_INPUTS, HYPOTHESES_TASK_OUTPUTS> =
+        infer::network::Network::sized(&widths, &params).unwrap();
+    let y = plain.forward(&task).unwrap();
+    for (a, b) in y.iter().zip(&burn_y) {
+        assert!((a - b).abs() <= 1e-12 * b.abs().max(1.0), "{a} vs {b}");
+    }
+    // The hypotheses differ: each has its own last-layer weights.
+    assert_ne!(y[..p], y[p..2 * p]);
 }

@@ -110,6 +110,33 @@ fn a_skewed_library_trains_a_network_with_skews() {
     let file = infer::template::TaskNetworkFile::from_json(&a.net.export(3).to_json()).unwrap();
     assert_eq!(file.widths.last(), Some(&78));
     assert!(file.network().unwrap().skewed());
+
+    // Three hypotheses: a network infer reads as three sequences a task,
+    // each a plan of the asked count; the spec-family library refuses them.
+    let three = TaskTrainSettings {
+        hypotheses: 3,
+        ..settings
+    };
+    let h = train_task_network(&samples, &three, 3, &runtime(), false).unwrap();
+    let file = infer::template::TaskNetworkFile::from_json(&h.net.export(3).to_json()).unwrap();
+    let net = file.network().unwrap();
+    assert_eq!((file.widths.last(), net.hypotheses()), (Some(&234), 3));
+    let task = infer::TrenchTask::reference('B').unwrap();
+    let design = infer::DesignProfile::new(planner.config(), &task);
+    let plans: Vec<_> = (0..3)
+        .map(|k| {
+            net.predict_hypothesis(planner.config(), &task, &design, 3, k)
+                .unwrap()
+        })
+        .collect();
+    assert!(plans.iter().all(|p| p.digs().len() == 3));
+    assert_ne!(plans[0].digs(), plans[1].digs());
+    assert!(
+        net.predict_hypothesis(planner.config(), &task, &design, 3, 3)
+            .is_err()
+    );
+    let (spec, _) = load_library(&shipped_library(), &planner).unwrap();
+    assert!(train_task_network(&spec, &three, 3, &runtime(), false).is_err());
 }
 
 #[test]

@@ -17,6 +17,12 @@
 //! more than [`crate::Planner::digs_for`] expects, and a 2-dig plan's first
 //! dig is not a 3-dig plan's. Given the count, the network answers one
 //! plan rather than the mean of both.
+//!
+//! A network may give [`TASK_HYPOTHESES`] sequences per task instead of
+//! one (trained by multiple choice: each task's loss on the sequence
+//! nearest its library plan). Why: neighbouring library plans lie in
+//! different basins, and one output averages them; the planner screens
+//! the hypotheses and seeds with the best (`super::search`).
 
 use super::{MAX_TEMPLATE_DIGS, Template};
 use crate::config::Config;
@@ -32,35 +38,52 @@ pub const TASK_INPUTS: usize = 6;
 pub const TASK_OUTPUTS: usize = MAX_TEMPLATE_DIGS * SPEC_VARS;
 /// Outputs of a network with the skews: [`DIG_VARS`] per dig.
 pub const SKEWED_TASK_OUTPUTS: usize = MAX_TEMPLATE_DIGS * DIG_VARS;
+/// Sequences a network of several hypotheses gives (with the skews), side
+/// by side: as many as the forward pass's widest layer holds.
+pub const TASK_HYPOTHESES: usize = 3;
+/// Outputs of such a network.
+pub const HYPOTHESES_TASK_OUTPUTS: usize = TASK_HYPOTHESES * SKEWED_TASK_OUTPUTS;
 
 /// The task network's forward pass, borrowing its parameters.
 #[derive(Debug, Clone, Copy)]
 pub enum TaskNetwork<'a> {
     Spec(Network<'a, TASK_INPUTS, TASK_OUTPUTS>),
     Skewed(Network<'a, TASK_INPUTS, SKEWED_TASK_OUTPUTS>),
+    Hypotheses(Network<'a, TASK_INPUTS, HYPOTHESES_TASK_OUTPUTS>),
 }
 
 impl<'a> TaskNetwork<'a> {
-    /// Checks widths (6 inputs; 60 outputs, or 78 with the skews) and
-    /// parameters as [`Network::sized`] does.
+    /// Checks widths (6 inputs; 60 outputs, 78 with the skews, or 234
+    /// for [`TASK_HYPOTHESES`] sequences with them) and parameters as
+    /// [`Network::sized`] does.
     pub fn new(widths: &[usize], params: &'a [f64]) -> Result<Self, Error> {
-        if widths.last() == Some(&SKEWED_TASK_OUTPUTS) {
-            Ok(TaskNetwork::Skewed(Network::sized(widths, params)?))
-        } else {
-            Ok(TaskNetwork::Spec(Network::sized(widths, params)?))
+        match widths.last() {
+            Some(&SKEWED_TASK_OUTPUTS) => Ok(TaskNetwork::Skewed(Network::sized(widths, params)?)),
+            Some(&HYPOTHESES_TASK_OUTPUTS) => {
+                Ok(TaskNetwork::Hypotheses(Network::sized(widths, params)?))
+            }
+            _ => Ok(TaskNetwork::Spec(Network::sized(widths, params)?)),
         }
     }
 
     /// Whether it gives the skews.
     pub fn skewed(&self) -> bool {
-        matches!(self, TaskNetwork::Skewed(_))
+        !matches!(self, TaskNetwork::Spec(_))
+    }
+
+    /// Sequences it gives per task and dig count.
+    pub fn hypotheses(&self) -> usize {
+        match self {
+            TaskNetwork::Hypotheses(_) => TASK_HYPOTHESES,
+            _ => 1,
+        }
     }
 
     /// The `count` digs the network gives `task` (whose design is
     /// `design`) planned in that many digs, as a template of that task:
     /// its variables taken from box coordinates back into the task's box.
     /// An error if `count` is 0 or more than [`MAX_TEMPLATE_DIGS`], or the
-    /// forward pass is not finite.
+    /// forward pass is not finite. Of several hypotheses, the first.
     pub fn predict(
         &self,
         cfg: &Config,
@@ -68,9 +91,27 @@ impl<'a> TaskNetwork<'a> {
         design: &DesignProfile,
         count: usize,
     ) -> Result<Template, Error> {
+        self.predict_hypothesis(cfg, task, design, count, 0)
+    }
+
+    /// [`Self::predict`]'s sequence number `hypothesis` (below
+    /// [`Self::hypotheses`], or an error).
+    pub fn predict_hypothesis(
+        &self,
+        cfg: &Config,
+        task: &TrenchTask,
+        design: &DesignProfile,
+        count: usize,
+        hypothesis: usize,
+    ) -> Result<Template, Error> {
         if count == 0 || count > MAX_TEMPLATE_DIGS {
             return Err(Error::BadConfig {
                 field: "task network digs (1 to MAX_TEMPLATE_DIGS)",
+            });
+        }
+        if hypothesis >= self.hypotheses() {
+            return Err(Error::BadConfig {
+                field: "task network hypothesis (below its count)",
             });
         }
         let x = task_inputs(task, count);
@@ -86,6 +127,11 @@ impl<'a> TaskNetwork<'a> {
         match self {
             TaskNetwork::Spec(net) => fill(&net.forward(&x)?, SPEC_VARS),
             TaskNetwork::Skewed(net) => fill(&net.forward(&x)?, DIG_VARS),
+            TaskNetwork::Hypotheses(net) => {
+                let y = net.forward(&x)?;
+                let h = hypothesis * SKEWED_TASK_OUTPUTS;
+                fill(&y[h..h + SKEWED_TASK_OUTPUTS], DIG_VARS)
+            }
         }
         Template::new(*task, &digs[..count])
     }

@@ -5,9 +5,10 @@
 
 use super::learned::TaskNetwork;
 use super::{
-    Champion, EXCESS_MARGIN, Excess, MAX_TEMPLATE_DIGS, Played, SeedTemplates, Steps, Template,
-    TemplateSettings, TemplateWork, WINDOW, WINDOW_AFTER, WINDOW_BEFORE,
+    Champion, EXCESS_MARGIN, Excess, MAX_TEMPLATE_DIGS, MIN_EVALUATIONS, Played, SeedTemplates,
+    Steps, Template, TemplateSettings, TemplateWork, WINDOW, WINDOW_AFTER, WINDOW_BEFORE,
 };
+use crate::config::Config;
 use crate::planner::{PlanError, Planner};
 use crate::sequence::MAX_NEIGHBOURS;
 use crate::sequence::{Axes, DIG_VARS, DigVars, nearest, search_box};
@@ -275,12 +276,12 @@ impl TemplateWork {
                     .into_iter()
                     .flatten()
                     .filter(|c| (1..=MAX_TEMPLATE_DIGS).contains(c));
+                self.skew |= net.skewed();
                 let mut used = 0;
                 for (slot, c) in near.iter_mut().zip(counts) {
-                    *slot = Some((0, net.predict(cfg, &self.task, &self.design, c)?));
+                    *slot = Some((0, self.hypothesis(planner, net, c, settings)?));
                     used += 1;
                 }
-                self.skew |= net.skewed();
                 self.skew |=
                     self.nearest_seeds(&mut near[used..], templates.first, expected, settings, 1);
             }
@@ -360,6 +361,52 @@ impl TemplateWork {
             champion: self.racers[0].ok_or(PlanError::NoTemplate)?,
             fallback,
         })
+    }
+
+    /// The network's sequence for the task in `count` digs; of several
+    /// hypotheses, the least by value plus violation under the refit's
+    /// screen (limits at its samples), each screen charged to the bound,
+    /// and only while the bound keeps [`MIN_EVALUATIONS`] for the rest
+    /// (else the first). Why: a cheap look picks the basin the network's
+    /// outputs lie in.
+    fn hypothesis(
+        &mut self,
+        planner: &Planner,
+        net: &TaskNetwork<'_>,
+        count: usize,
+        settings: &TemplateSettings,
+    ) -> Result<Template, PlanError> {
+        let cfg = planner.config();
+        let first = net.predict(cfg, &self.task, &self.design, count)?;
+        let cost = net.hypotheses() * count;
+        if net.hypotheses() == 1
+            || self.evaluations + cost > settings.max_evaluations - MIN_EVALUATIONS
+        {
+            return Ok(first);
+        }
+        let screen = Config {
+            continuous_limits: false,
+            time_samples: settings.screen_samples,
+            ..*cfg
+        };
+        let (lo, hi) = search_box(cfg, &self.design, self.skew);
+        let mut best = (f64::INFINITY, first);
+        for h in 0..net.hypotheses() {
+            let t = net.predict_hypothesis(cfg, &self.task, &self.design, count, h)?;
+            self.candidate.count = t.count;
+            self.candidate.vars = t.carried_to(cfg, &self.design);
+            for v in &mut self.candidate.vars[..t.count] {
+                for i in 0..DIG_VARS {
+                    v[i] = v[i].clamp(lo[i], hi[i]);
+                }
+            }
+            self.play_under(&screen, 0, settings.weight_objective, false);
+            let key = self.candidate.value + self.candidate.violation;
+            if key < best.0 {
+                best = (key, t);
+            }
+        }
+        Ok(best.1)
     }
 
     /// The nearest of `templates` (at most [`TemplateSettings::neighbours`]

@@ -22,6 +22,10 @@
 //!   (a plan whose dig cannot fill the bucket is what the planner most
 //!   often has to refit).
 //!
+//! With several hypotheses (`TaskTrainSettings::hypotheses`), each task's
+//! data term falls on the hypothesis nearest its library plan, and the
+//! other terms see that one (`winner`).
+//!
 //! The planner still checks every dig and the profile with the exact model
 //! and refits (`infer::template::learned`).
 
@@ -34,7 +38,7 @@ use burn::tensor::TensorData;
 use dataset_gen::jobs::progress_bar;
 use infer::sequence::{DIG_VARS, SKEW_PEAK, SKEW_RANGE, SPEC_VARS, vars_per_dig};
 use infer::template::Template;
-use infer::template::learned::{TASK_INPUTS, box_coordinates, task_inputs};
+use infer::template::learned::{TASK_HYPOTHESES, TASK_INPUTS, box_coordinates, task_inputs};
 use infer::{DigType, Planner, TrenchTask};
 use model::physics::sequence::{Designs, play};
 use model::physics::{dig_figures, motion_penalty};
@@ -173,6 +177,10 @@ pub struct TaskTrainSettings {
     pub profile_dx: f64,
     /// Weight of R(W).
     pub regulariser: f64,
+    /// Sequences the network gives per task: 1, or
+    /// `infer::template::learned::TASK_HYPOTHESES` (with the skews),
+    /// trained by multiple choice (module docs).
+    pub hypotheses: usize,
 }
 
 impl Default for TaskTrainSettings {
@@ -189,6 +197,7 @@ impl Default for TaskTrainSettings {
             profile: 20.0,
             profile_dx: 0.01,
             regulariser: 1e-6,
+            hypotheses: 1,
         }
     }
 }
@@ -210,6 +219,7 @@ impl TaskTrainSettings {
             && self.profile >= 0.0
             && self.profile_dx > 0.0
             && self.profile_dx <= 0.05
+            && [1, TASK_HYPOTHESES].contains(&self.hypotheses)
             && [
                 self.learning_rate,
                 self.decay,
@@ -224,9 +234,9 @@ impl TaskTrainSettings {
         if ok {
             Ok(())
         } else {
-            Err(TrainError::Config(
-                "task training: hidden 1–7 layers of 1–256, epochs, batch size and time samples (≥ 3) positive, learning rate > 0, decay in (0, 1], weights and margin ≥ 0, profile_dx in (0, 0.05] m".into(),
-            ))
+            Err(TrainError::Config(format!(
+                "task training: hidden 1–7 layers of 1–256, epochs, batch size and time samples (≥ 3) positive, learning rate > 0, decay in (0, 1], weights and margin ≥ 0, profile_dx in (0, 0.05] m, hypotheses 1 or {TASK_HYPOTHESES}"
+            )))
         }
     }
 }
@@ -407,7 +417,13 @@ impl Terms {
 fn terms(net: &TaskNet, batch: &Batch, cfg: &infer::Config, s: &TaskTrainSettings) -> Terms {
     let y_n = net.forward(batch.x.clone());
     let target_n = net.normalise_y(batch.y.clone());
-    let data = ((y_n.clone() - target_n).square() * batch.mask.clone()).sum() / batch.digs;
+    let (data, y_n) = match net.hypotheses() {
+        1 => {
+            let error = (y_n.clone() - target_n).square() * batch.mask.clone();
+            (error.sum() / batch.digs, y_n)
+        }
+        k => winner(y_n, target_n, batch.mask.clone(), k, batch.digs),
+    };
     let u = net.denormalise_y(y_n);
     let (profile, fill, played_queries) = match &batch.designs {
         Some((designs, digs)) => {
@@ -457,6 +473,36 @@ fn terms(net: &TaskNet, batch: &Batch, cfg: &infer::Config, s: &TaskTrainSetting
         fill,
         total,
     }
+}
+
+/// Share of the data term the losing hypotheses keep, so that none is
+/// left untrained (relaxed multiple choice).
+pub(crate) const LOSERS_SHARE: f64 = 0.05;
+
+/// Multiple choice over `k` hypotheses `y_n` [B, k·P] of the targets
+/// [B, P]: each task's data term falls on the hypothesis nearest its
+/// target (the others keep [`LOSERS_SHARE`] of theirs), and that
+/// hypothesis [B, P] is the plan the physics, profile and fill terms see.
+/// Why: neighbouring library plans lie in different basins; one output
+/// learns their average, which none of them is.
+fn winner(
+    y_n: Tensor<2>,
+    target_n: Tensor<2>,
+    mask: Tensor<2>,
+    k: usize,
+    digs: f64,
+) -> (Tensor<1>, Tensor<2>) {
+    let [b, p] = target_n.dims();
+    let y = y_n.reshape([b, k, p]);
+    let error =
+        ((y.clone() - target_n.reshape([b, 1, p])).square() * mask.reshape([b, 1, p])).sum_dim(2);
+    let least = error.clone().detach().min_dim(1);
+    let nearest = error.clone().detach().lower_equal(least).float();
+    // A tie (never seen) shares the task between the tied hypotheses.
+    let pick = nearest.clone() / nearest.sum_dim(1);
+    let weight = pick.clone() * (1.0 - LOSERS_SHARE) + LOSERS_SHARE / k as f64;
+    let data = (error * weight).sum() / digs;
+    (data, (y * pick).sum_dim(1).reshape([b, p]))
 }
 
 /// Profile and fill terms of the plans `u` (box coordinates) played on
@@ -509,12 +555,18 @@ pub fn train_task_network(
         time_samples: settings.time_samples,
         ..infer::Config::default()
     };
+    if settings.hypotheses > 1 && train[0].vars() != DIG_VARS {
+        return Err(TrainError::Config(
+            "task training: several hypotheses need a library with the skews".into(),
+        ));
+    }
     let norm = normalisation(&train);
     let mut net = TaskNet::init(
         &settings.hidden,
         &norm,
         &device,
         derive_seed(seed, 0x7A5C, 0),
+        settings.hypotheses,
     );
     let mut optim = AdamConfig::new().init();
     let validation_batch = batch(&validation, &base, &cfg, settings);
@@ -582,3 +634,33 @@ pub fn train_task_network(
 }
 pub mod report;
 pub mod smoothness;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use burn::tensor::FloatDType;
+
+    /// Each task's data term falls on its nearest hypothesis, and that
+    /// hypothesis is the plan handed on.
+    #[test]
+    fn the_nearest_hypothesis_takes_the_task() {
+        let mut device = Device::default();
+        // Another test of this binary may have set the dtype already.
+        let _ = device.configure(FloatDType::F64);
+        let t = |v: Vec<f64>, shape: [usize; 2]| {
+            Tensor::<2>::from_data(TensorData::new(v, shape), &device)
+        };
+        // Two tasks, two hypotheses of two outputs; task 0 nearest its
+        // second hypothesis, task 1 its first; task 1's last output masked.
+        let y = t(vec![5.0, 5.0, 1.0, 2.0, 0.0, 1.0, 9.0, 9.0], [2, 4]);
+        let target = t(vec![1.0, 1.0, 0.0, 0.0], [2, 2]);
+        let mask = t(vec![1.0, 1.0, 1.0, 0.0], [2, 2]);
+        let (data, plan) = winner(y, target, mask, 2, 3.0);
+        let plan = plan.into_data().try_into_vec_as::<f64>().unwrap();
+        assert_eq!(plan, vec![1.0, 2.0, 0.0, 1.0]);
+        // Winners' errors 1 and 0 weigh 0.975, losers' 32 and 81 0.025.
+        let expect = (0.975 * (1.0 + 0.0) + 0.025 * (32.0 + 81.0)) / 3.0;
+        let data = data.into_scalar::<f64>();
+        assert!((data - expect).abs() < 1e-6, "{data} vs {expect}");
+    }
+}

@@ -67,6 +67,14 @@ impl TaskTrainReport {
             self.settings.profile_dx * 1e3,
             self.settings.margin,
         );
+        if self.settings.hypotheses > 1 {
+            let _ = writeln!(
+                out,
+                "{} hypotheses a task, trained by multiple choice: the data term on the one nearest the library's plan (the others keep {:.0} % of theirs), the physics, profile and fill terms on that one; the validation figures are that hypothesis's.\n",
+                self.settings.hypotheses,
+                super::LOSERS_SHARE * 100.0
+            );
+        }
         if let Some(sm) = &self.smoothness {
             let ratios: Vec<String> = sm.ratio.iter().map(|r| format!("{r:.2}")).collect();
             let _ = writeln!(
