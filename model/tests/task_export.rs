@@ -9,16 +9,20 @@ use model::task_net::{TaskNet, TaskNormalisation};
 
 mod common;
 
+/// A normalisation of the six inputs and `outputs` outputs.
+fn normalisation(outputs: usize) -> TaskNormalisation {
+    TaskNormalisation {
+        x_mean: vec![0.6, 0.13, 0.9, 0.9, 1.04, 3.2],
+        x_std: vec![0.13, 0.04, 0.22, 0.22, 0.035, 1.1],
+        y_mean: (0..outputs).map(|j| 0.3 + 0.005 * j as f64).collect(),
+        y_std: (0..outputs).map(|j| 0.05 + 0.002 * j as f64).collect(),
+    }
+}
+
 #[test]
 fn export_matches_burns_forward_pass() {
     let device = common::device(true);
-    let norm = TaskNormalisation {
-        x_mean: vec![0.6, 0.13, 0.9, 0.9, 1.04, 3.2],
-        x_std: vec![0.13, 0.04, 0.22, 0.22, 0.035, 1.1],
-        y_mean: (0..TASK_OUTPUTS).map(|j| 0.3 + 0.005 * j as f64).collect(),
-        y_std: (0..TASK_OUTPUTS).map(|j| 0.05 + 0.002 * j as f64).collect(),
-    };
-    let net = TaskNet::init(&[16, 12], &norm, &device, 5, 1);
+    let net = TaskNet::init(&[16, 12], &normalisation(TASK_OUTPUTS), &device, 5, 1);
     let file = TaskNetworkFile::from_json(&net.export(5).to_json()).unwrap();
     assert_eq!(file.widths, vec![TASK_INPUTS, 16, 12, TASK_OUTPUTS]);
     file.network().unwrap();
@@ -60,13 +64,7 @@ fn hypotheses_export_as_infer_reads_them() {
     use infer::template::learned::{HYPOTHESES_TASK_OUTPUTS, SKEWED_TASK_OUTPUTS, TASK_HYPOTHESES};
     let device = common::device(true);
     let p = SKEWED_TASK_OUTPUTS;
-    let norm = TaskNormalisation {
-        x_mean: vec![0.6, 0.13, 0.9, 0.9, 1.04, 3.2],
-        x_std: vec![0.13, 0.04, 0.22, 0.22, 0.035, 1.1],
-        y_mean: (0..p).map(|j| 0.3 + 0.005 * j as f64).collect(),
-        y_std: (0..p).map(|j| 0.05 + 0.002 * j as f64).collect(),
-    };
-    let net = TaskNet::init(&[16], &norm, &device, 5, TASK_HYPOTHESES);
+    let net = TaskNet::init(&[16], &normalisation(p), &device, 5, TASK_HYPOTHESES);
     assert_eq!(net.hypotheses(), TASK_HYPOTHESES);
     let file = TaskNetworkFile::from_json(&net.export(5).to_json()).unwrap();
     assert_eq!(file.widths, vec![TASK_INPUTS, 16, HYPOTHESES_TASK_OUTPUTS]);
