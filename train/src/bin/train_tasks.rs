@@ -33,6 +33,9 @@ struct Cli {
     /// Weight of the profile and fill terms (0: leave the plan's carving out).
     #[arg(long)]
     profile: Option<f64>,
+    /// Sequences per task (1, or 3 with a skewed library: multiple choice).
+    #[arg(long)]
+    hypotheses: Option<usize>,
     #[arg(long)]
     no_progress: bool,
 }
@@ -53,6 +56,9 @@ fn run(cli: &Cli) -> Result<(), String> {
     }
     if let Some(v) = cli.profile {
         settings.profile = v;
+    }
+    if let Some(v) = cli.hypotheses {
+        settings.hypotheses = v;
     }
     if cli.seeds.is_empty() {
         return Err("--seeds: at least one seed".into());
