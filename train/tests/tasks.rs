@@ -283,5 +283,16 @@ fn train_tasks_resumes_from_finished_seeds() {
     };
     let again = std::fs::read_to_string(dir.join("out/report.json")).unwrap();
     assert_eq!(strip(&report), strip(&again));
+    // Bad settings are bad input: exit 2, nothing trained.
+    let bad = std::process::Command::new(env!("CARGO_BIN_EXE_train_tasks"))
+        .args(["--hypotheses", "2", "--library"])
+        .arg(shipped_library())
+        .arg("--out")
+        .arg(dir.join("bad"))
+        .output()
+        .unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).starts_with("error: "));
+    assert!(!dir.join("bad").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }

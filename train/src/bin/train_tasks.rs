@@ -40,7 +40,8 @@ struct Cli {
     no_progress: bool,
 }
 
-fn run(cli: &Cli) -> Result<(), String> {
+/// The settings the flags ask for, checked: an error here is bad input.
+fn settings(cli: &Cli) -> Result<TaskTrainSettings, String> {
     let mut settings: TaskTrainSettings = match &cli.settings {
         Some(p) => {
             let text = std::fs::read_to_string(p).map_err(|e| format!("{}: {e}", p.display()))?;
@@ -63,6 +64,11 @@ fn run(cli: &Cli) -> Result<(), String> {
     if cli.seeds.is_empty() {
         return Err("--seeds: at least one seed".into());
     }
+    settings.validate().map_err(|e| e.to_string())?;
+    Ok(settings)
+}
+
+fn run(cli: &Cli, settings: TaskTrainSettings) -> Result<(), String> {
     let planner = infer::Planner::new(&infer::Config::default(), &Default::default())
         .map_err(|e| e.to_string())?;
     let (samples, skipped) = load_library(&cli.library, &planner).map_err(|e| e.to_string())?;
@@ -167,7 +173,15 @@ fn write(path: &Path, text: &str) -> Result<(), String> {
 }
 
 fn main() -> ExitCode {
-    match run(&Cli::parse()) {
+    let cli = Cli::parse();
+    let settings = match settings(&cli) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    match run(&cli, settings) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");
