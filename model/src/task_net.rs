@@ -15,6 +15,7 @@ use crate::dense::{self, buffer_like, row, to_f64};
 use burn::module::{Module, Param};
 use burn::nn::{Linear, Tanh};
 use burn::prelude::*;
+use burn::tensor::TensorData;
 use infer::template::TaskNetworkFile;
 use infer::template::learned::TASK_INPUTS;
 
@@ -118,6 +119,44 @@ impl TaskNet {
             params,
             seed,
         }
+    }
+
+    /// The hypotheses in the order `order` (a permutation of 0..K): the
+    /// new hypothesis i is the old `order[i]`.
+    pub fn with_hypotheses_ordered(mut self, order: &[usize]) -> Self {
+        let (k, p) = (self.hypotheses(), self.plan_outputs());
+        let mut sorted = order.to_vec();
+        sorted.sort_unstable();
+        assert!(
+            sorted == (0..k).collect::<Vec<_>>(),
+            "a permutation of the hypotheses"
+        );
+        let last = self.layers.last_mut().expect("at least one layer");
+        let [d_in, d_out] = last.weight.dims();
+        let device = last.weight.val().device();
+        let w = to_f64(last.weight.val().reshape([d_in * d_out]));
+        let w: Vec<f64> = w
+            .chunks(d_out)
+            .flat_map(|row| order.iter().flat_map(move |&h| &row[h * p..(h + 1) * p]))
+            .copied()
+            .collect();
+        last.weight = Param::from_tensor(Tensor::from_data(
+            TensorData::new(w, [d_in, d_out]),
+            &device,
+        ));
+        if let Some(bias) = &last.bias {
+            let b = to_f64(bias.val());
+            let b: Vec<f64> = order
+                .iter()
+                .flat_map(|&h| &b[h * p..(h + 1) * p])
+                .copied()
+                .collect();
+            last.bias = Some(Param::from_tensor(Tensor::from_data(
+                TensorData::new(b, [d_out]),
+                &device,
+            )));
+        }
+        self
     }
 
     /// Replaces the normalisation (e.g. after loading a record).

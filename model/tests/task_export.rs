@@ -86,4 +86,13 @@ fn hypotheses_export_as_infer_reads_them() {
     }
     // The hypotheses differ: each has its own last-layer weights.
     assert_ne!(y[..p], y[p..2 * p]);
+    // Reordered, hypothesis i is the old order[i], bit for bit.
+    let order = [2, 0, 1];
+    let file = net.with_hypotheses_ordered(&order).export(5);
+    let reordered: infer::network::Network<'_, TASK_INPUTS, HYPOTHESES_TASK_OUTPUTS> =
+        infer::network::Network::sized(&file.widths, &file.params).unwrap();
+    let z = reordered.forward(&task).unwrap();
+    for (i, &h) in order.iter().enumerate() {
+        assert_eq!(z[i * p..(i + 1) * p], y[h * p..(h + 1) * p]);
+    }
 }

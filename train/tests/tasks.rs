@@ -118,6 +118,9 @@ fn a_skewed_library_trains_a_network_with_skews() {
         ..settings
     };
     let h = train_task_network(&samples, &three, 3, &runtime(), false).unwrap();
+    // Every training task counted once, the likeliest hypothesis first.
+    assert_eq!(h.wins.iter().sum::<usize>(), h.train_tasks);
+    assert!(h.wins.windows(2).all(|w| w[0] >= w[1]), "{:?}", h.wins);
     let file = infer::template::TaskNetworkFile::from_json(&h.net.export(3).to_json()).unwrap();
     let net = file.network().unwrap();
     assert_eq!((file.widths.last(), net.hypotheses()), (Some(&234), 3));

@@ -115,6 +115,7 @@ fn run(cli: &Cli, settings: TaskTrainSettings) -> Result<(), String> {
                     seconds: outcome.seconds,
                     best: outcome.log[outcome.best_epoch - 1],
                     log: outcome.log,
+                    wins: outcome.wins,
                 };
                 let record = SeedRecord {
                     library: library.clone(),

@@ -272,6 +272,9 @@ pub struct TaskOutcome {
     pub seconds: f64,
     pub train_tasks: usize,
     pub validation_tasks: usize,
+    /// Training tasks each hypothesis is nearest for, in the network's
+    /// order: most first ([`by_wins`]).
+    pub wins: Vec<usize>,
 }
 
 /// The least σ of an output: box coordinates lie in [0, 1], and a dig
@@ -526,6 +529,46 @@ fn carved_terms(
     (profile, violation.sum() / digs.sum(), played.queries)
 }
 
+/// The network with its hypotheses ordered by the training tasks each is
+/// nearest for, most first, and those counts. Why: a planner with no
+/// bound to screen them seeds with the first
+/// (`infer::template::learned`), and the likeliest is the best guess.
+fn by_wins(
+    net: TaskNet,
+    train: &[&TaskSample],
+    device: &Device,
+    cfg: &infer::Config,
+    settings: &TaskTrainSettings,
+) -> (TaskNet, Vec<usize>) {
+    let k = net.hypotheses();
+    if k == 1 {
+        return (net, vec![train.len()]);
+    }
+    let plain = TaskTrainSettings {
+        profile: 0.0,
+        ..settings.clone()
+    };
+    let b = batch(train, device, cfg, &plain);
+    let [n, p] = b.y.dims();
+    let y = net.forward(b.x).reshape([n, k, p]);
+    let target = net.normalise_y(b.y).reshape([n, 1, p]);
+    let error = ((y - target).square() * b.mask.reshape([n, 1, p])).sum_dim(2);
+    let error = error
+        .reshape([n * k])
+        .into_data()
+        .try_into_vec_as::<f64>()
+        .expect("a float tensor converts to f64");
+    let mut wins = vec![0; k];
+    for e in error.chunks(k) {
+        let nearest = (0..k).fold(0, |a, h| if e[h] < e[a] { h } else { a });
+        wins[nearest] += 1;
+    }
+    let mut order: Vec<usize> = (0..k).collect();
+    order.sort_by_key(|&h| std::cmp::Reverse(wins[h]));
+    let wins = order.iter().map(|&h| wins[h]).collect();
+    (net.with_hypotheses_ordered(&order), wins)
+}
+
 fn read(t: &Tensor<1>) -> f64 {
     t.clone().into_scalar::<f64>()
 }
@@ -623,7 +666,9 @@ pub fn train_task_network(
     }
     bar.finish_and_clear();
     let (_, best_epoch, best) = best.expect("at least one epoch");
+    let (best, wins) = by_wins(best, &train, &base, &cfg, settings);
     Ok(TaskOutcome {
+        wins,
         net: best,
         best_epoch,
         log,

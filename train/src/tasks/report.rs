@@ -17,6 +17,10 @@ pub struct SeedRun {
     /// The epoch whose network is kept (least validation total).
     pub best: TaskEpoch,
     pub log: Vec<TaskEpoch>,
+    /// Training tasks each hypothesis is nearest for, first hypothesis
+    /// first (one entry for a network of one).
+    #[serde(default)]
+    pub wins: Vec<usize>,
 }
 
 /// What a finished seed leaves beside its network (`seed_<s>.run.json`),
@@ -73,6 +77,19 @@ impl TaskTrainReport {
                 "{} hypotheses a task, trained by multiple choice: the data term on the one nearest the library's plan (the others keep {:.0} % of theirs), the physics, profile and fill terms on that one; the validation figures are that hypothesis's.\n",
                 self.settings.hypotheses,
                 super::LOSERS_SHARE * 100.0
+            );
+            let wins: Vec<String> = self
+                .runs
+                .iter()
+                .map(|r| {
+                    let w: Vec<String> = r.wins.iter().map(|w| w.to_string()).collect();
+                    format!("seed {}: {}", r.seed, w.join(" / "))
+                })
+                .collect();
+            let _ = writeln!(
+                out,
+                "Training tasks each hypothesis is nearest for, in the network's order (most first, the seed a planner with no bound to screen takes): {}.\n",
+                wins.join("; ")
             );
         }
         if let Some(sm) = &self.smoothness {
