@@ -273,7 +273,7 @@ pub struct TaskOutcome {
     pub train_tasks: usize,
     pub validation_tasks: usize,
     /// Training tasks each hypothesis is nearest for, in the network's
-    /// order: most first ([`by_wins`]).
+    /// order: most first (`by_wins`).
     pub wins: Vec<usize>,
 }
 
