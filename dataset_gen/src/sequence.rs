@@ -504,7 +504,7 @@ fn value(m: &ProfileMetrics, mean_objective: f64, weight_objective: f64) -> f64 
     m.under_dug + m.over_dug + weight_objective * mean_objective
 }
 
-/// [`value`] of a finished plan (what [`optimise_task`] and [`refit_task`]
+/// `value` of a finished plan (what [`optimise_task`] and [`refit_task`]
 /// minimised, for comparing their plans).
 pub fn plan_value(plan: &Plan, weight_objective: f64) -> f64 {
     let n = plan.digs.len().max(1) as f64;

@@ -3,7 +3,7 @@
 //! figure moves with the seed (and with the CPU, whose floating-point
 //! reductions differ), so the report gives each seed's value, the median
 //! and the spread, and a goal counts as met only when every seed meets it.
-//! [`table`] prints any such figures; `learned` uses it for the task networks.
+//! `table` prints any such figures; `learned` uses it for the task networks.
 
 use crate::pipeline::TrainedNetwork;
 use crate::summary::Summary;

@@ -11,7 +11,7 @@ pub struct TaskArgs {
     /// One of the spec's tasks A, B, C or D.
     #[arg(long, conflicts_with_all = ["task_file", "length"])]
     pub task: Option<char>,
-    /// A task file (TOML or JSON): length, depth (m), slope_far_deg, slope_near_deg, [far_edge] (m).
+    /// A task file (TOML or JSON): length, depth (m), slope_far_deg, slope_near_deg and, optionally, far_edge (m).
     #[arg(long)]
     pub task_file: Option<PathBuf>,
     /// Top length L (m).

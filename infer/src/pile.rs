@@ -141,7 +141,7 @@ fn cubic_basis_slope(t: f64, lo: f64, h: f64) -> [f64; 4] {
 #[serde(try_from = "RawPileSurface")]
 pub struct PileSurface {
     pub domain: PileDomain,
-    /// c[j][k]: control height (m) at [`PileDomain::control_point`](j, k).
+    /// `c[j][k]`: control height (m) at [`PileDomain::control_point`](j, k).
     pub coefficients: [[f64; PILE_GRID]; PILE_GRID],
     /// R² = 1 − SS_res/SS_tot of the fit (1 for a surface not fitted to data).
     pub r_squared: f64,

@@ -17,7 +17,7 @@
 //! | [`carving`] | `terrain.rs` (carving on a grid, exact at the nodes) |
 //! | [`sequence`] | `sequence/` (a plan played on the surface) and `DesignProfile::compare` |
 //! | [`dig`] | `dig/` (figures and checks in `excavator.rs`, objective and dig angle in `mod.rs`) |
-//! | [`losses`] | spec §8 (no counterpart in `infer`) |
+//! | [`losses`](mod@losses) | spec §8 (no counterpart in `infer`) |
 //!
 //! Deliberate differences from `infer`, all small and named where they occur:
 //! - **Volume** (`volume.rs`): `infer` carves a height field; here the surface

@@ -29,25 +29,25 @@ struct Cli {
 /// The section and the joint grid.
 #[derive(clap::Args, Debug)]
 struct SectionArgs {
-    /// Section width W [m] (a rectangle; see --polygon).
+    /// Section width W (m) (a rectangle; see --polygon).
     #[arg(long, default_value_t = 5.0)]
     width: f64,
-    /// Section height H [m].
+    /// Section height H (m).
     #[arg(long, default_value_t = 3.0)]
     height: f64,
-    /// Convex section as "y,z;y,z;…" [m] instead of the rectangle.
+    /// Convex section as "y,z;y,z;…" (m) instead of the rectangle.
     #[arg(long)]
     polygon: Option<String>,
-    /// Distance of the face R_h [m].
+    /// Distance of the face R_h (m).
     #[arg(long, default_value_t = 20.0)]
     face: f64,
-    /// Cutting depth C_h [m].
+    /// Cutting depth C_h (m).
     #[arg(long, default_value_t = 1.0)]
     depth: f64,
     /// Δθ1 = Δθ2 [°].
     #[arg(long, default_value_t = 5.0)]
     dtheta: f64,
-    /// Δd [m].
+    /// Δd (m).
     #[arg(long, default_value_t = 0.25)]
     dd: f64,
 }
@@ -110,7 +110,7 @@ enum Command {
         /// Speed of the nose along the path, for the time stamps [m/s].
         #[arg(long, default_value_t = 0.1)]
         speed: f64,
-        /// Voxel size of the forming-quality measurement [m].
+        /// Voxel size of the forming-quality measurement (m).
         #[arg(long, default_value_t = 0.025)]
         voxel: f64,
         #[arg(long, default_value = "runs/roadheader")]

@@ -82,7 +82,7 @@ impl Library {
     }
 
     /// The at most `k` plans whose tasks are nearest `task`, nearest first
-    /// ([`infer::sequence::nearest`], as the template planner chooses: the
+    /// ([`infer::sequence::nearest`](fn@infer::sequence::nearest), as the template planner chooses: the
     /// nearest plan of `digs` digs always among them).
     pub fn nearest(&self, task: &TrenchTask, digs: usize, k: usize) -> Vec<&(PathBuf, Plan)> {
         let stored = self.plans.iter().map(|(_, p)| (p.task, p.digs.len()));

@@ -5,7 +5,7 @@
 //! templates, with the template planner's full refit bound; from the
 //! network's seeds alone, which shows what the network adds; and with the
 //! least bound), from the templates and dig by dig; and each network's
-//! digs against guarded PSO ([`pso`]).
+//! digs against guarded PSO (`pso`).
 
 pub mod bounds;
 mod judged;

@@ -7,7 +7,7 @@ use super::track::{Controller, Observation};
 /// The PID of spec §4 on the fuzzy controller's error e = d + α·d0, in the
 /// same scaled units: u = k_p e_u + k_i ∫e_u dt + k_d de_u/dt \[rpm\] with
 /// e_u = K_e·e, and v_r − v_l = K_u·u. Gains k_p 800, k_i 100, k_d 300
-/// **[source]**; the preview, α and scaling come from the fuzzy config, so
+/// **\[source\]**; the preview, α and scaling come from the fuzzy config, so
 /// only the control law differs.
 #[derive(Debug, Clone, Copy)]
 pub struct Pid {

@@ -4,7 +4,7 @@
 //! the path line AB, plus α times the centroid's deviation d0) and its rate
 //! ec = de/dt; output: the track speed difference v_r − v_l. Each is scaled
 //! onto its universe (e ∈ [−0.45, 0.45], ec ∈ [−30, 30], u ∈ [−2,700,
-//! 2,700] rpm **[source]**) by a factor of [`FuzzyConfig`]. Each universe
+//! 2,700] rpm **\[source\]**) by a factor of [`FuzzyConfig`]. Each universe
 //! has seven triangular sets NB…PB with evenly spaced peaks (spacing a
 //! third of the half-width) and the two outermost sets open-ended
 //! (membership 1 beyond the edge). "And" and the implication are min,
@@ -18,7 +18,7 @@
 
 use super::error::{CrawlerError, finite, positive};
 
-/// Half-widths of the universes **[source]**: e \[m\], ec, u \[rpm\].
+/// Half-widths of the universes **\[source\]**: e \[m\], ec, u \[rpm\].
 pub const E_UNIVERSE: f64 = 0.45;
 pub const EC_UNIVERSE: f64 = 30.0;
 pub const U_UNIVERSE: f64 = 2700.0;

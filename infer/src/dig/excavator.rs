@@ -373,13 +373,13 @@ pub(crate) fn walk(
     }))
 }
 
-/// The dig's carving alone: the cut [`walk`] makes, bit for bit (the same
+/// The dig's carving alone: the cut `walk` makes, bit for bit (the same
 /// tip path, carved the same way at each sample), without the dynamics,
 /// the checks or the objective: 7.0 µs against 20.2 µs for the reference
 /// dig evaluated in continuous time (`cargo bench --bench evaluate`, AMD
 /// EPYC). Why: a search whose candidates are ranked first by the surface
 /// they leave turns most of them down on this alone. Errors where
-/// [`walk`] would.
+/// `walk` would.
 pub fn carve(
     cfg: &Config,
     task: &DigTask,

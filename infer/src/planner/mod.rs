@@ -7,7 +7,7 @@
 //! the machine, as in the source) and at the lips of the faces earlier digs
 //! left; each start is tried with both dig types and a few chords, in an
 //! order of preference, with start and end tooth-tip poses inside
-//! [`QueryRanges`] (so a network is asked in-distribution). The
+//! [`QueryRanges`](crate::QueryRanges) (so a network is asked in-distribution). The
 //! [`DigPredictor`] proposes Y for each and the exact model evaluates it on
 //! the real surface with a [`DesignGuard`] that keeps the cut within a
 //! small tolerance of the design profile. Feasible candidates are scored by

@@ -15,7 +15,7 @@ pub struct PlannerSettings {
     pub ranges: QueryRanges,
     pub repair: RepairSettings,
     /// Volume per dig, as a fraction of V_max, for the expected dig count
-    /// ⌈V_design / (fill · V_max)⌉ reported by [`Planner::digs_for`].
+    /// ⌈V_design / (fill · V_max)⌉ reported by [`Planner::digs_for`](crate::Planner::digs_for).
     pub fill: f64,
     /// Deepest trench the planner accepts \[m\].
     pub max_depth: f64,

@@ -13,9 +13,9 @@
 //! - [`play`]: one dig of a sequence played under the exact model with the
 //!   design guard;
 //! - [`deb`]: Deb's rules, how two (violation, value) points compare;
-//! - [`compass`]: the compass search that refits a sequence, given how to
+//! - [`compass`](mod@compass): the compass search that refits a sequence, given how to
 //!   play it, its directions turned or not;
-//! - [`nearest`]: which stored tasks are nearest a new one.
+//! - [`nearest`](mod@nearest): which stored tasks are nearest a new one.
 
 pub mod compass;
 pub mod deb;

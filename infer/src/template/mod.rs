@@ -208,7 +208,7 @@ pub struct TemplateSettings {
     /// against 139).
     pub retime: bool,
     /// Turn each dig's search directions towards the way it has moved
-    /// (Rosenbrock's method, [`crate::sequence::compass`]). On against off
+    /// (Rosenbrock's method, [`crate::sequence::compass`](mod@crate::sequence::compass)). On against off
     /// over five task sets of `eval learned` and three networks: 873
     /// against 847 of 960 plans within 3 %, mean under-dug 1.74 against
     /// 1.77 % (2026-12-06); at 4,800 evaluations it did not pay.

@@ -58,8 +58,8 @@ impl TemplateWork {
     }
 
     /// Exact dig evaluations the last plan charged against
-    /// [`TemplateSettings::max_evaluations`] (and, if it was retried,
-    /// [`TemplateSettings::retry`]). A candidate whose replay
+    /// [`TemplateSettings::max_evaluations`](super::TemplateSettings::max_evaluations) (and, if it was retried,
+    /// [`TemplateSettings::retry`](super::TemplateSettings::retry)). A candidate whose replay
     /// stopped at a dig that breaks a constraint is charged in full, so
     /// the evaluations actually made (the sum of the plan's per-dig counts)
     /// can be fewer.

@@ -16,7 +16,7 @@ struct Cli {
     /// Library folder (`dataset_gen library` writes it).
     #[arg(long, default_value = "runs/library")]
     library: PathBuf,
-    /// Output folder: seed_<s>.json per seed, report.{md,json}, loss.svg.
+    /// Output folder: `seed_<s>.json` per seed, report.{md,json}, loss.svg.
     #[arg(long, default_value = "artifacts/task_network")]
     out: PathBuf,
     /// Training seeds, comma-separated.
