@@ -9,6 +9,18 @@ use model::task_net::{TaskNet, TaskNormalisation};
 
 mod common;
 
+/// Burn's box coordinates for `tasks`, row after row.
+fn burn_outputs(net: &TaskNet, tasks: &[[f64; TASK_INPUTS]], device: &Device) -> Vec<f64> {
+    let x = Tensor::<2>::from_data(
+        TensorData::new(tasks.concat(), [tasks.len(), TASK_INPUTS]),
+        device,
+    );
+    net.denormalise_y(net.forward(x))
+        .into_data()
+        .try_into_vec_as::<f64>()
+        .unwrap()
+}
+
 /// A normalisation of the six inputs and `outputs` outputs.
 fn normalisation(outputs: usize) -> TaskNormalisation {
     TaskNormalisation {
@@ -31,15 +43,7 @@ fn export_matches_burns_forward_pass() {
         [0.8, 0.19, 0.55, 0.9, 1.09, 6.0],
         [0.6, 0.13, 1.0, 1.0, 1.03, 3.0],
     ];
-    let x = Tensor::<2>::from_data(
-        TensorData::new(tasks.concat(), [tasks.len(), TASK_INPUTS]),
-        &device,
-    );
-    let burn_y = net
-        .denormalise_y(net.forward(x))
-        .into_data()
-        .try_into_vec_as::<f64>()
-        .unwrap();
+    let burn_y = burn_outputs(&net, &tasks, &device);
     // The network's raw output; `predict` maps it into the task's box.
     let (widths, params) = (file.widths.clone(), file.params.clone());
     let plain: infer::network::Network<'_, TASK_INPUTS, TASK_OUTPUTS> =
@@ -71,12 +75,7 @@ fn hypotheses_export_as_infer_reads_them() {
     let read = file.network().unwrap();
     assert!(read.skewed() && read.hypotheses() == TASK_HYPOTHESES);
     let task = [0.6, 0.13, 1.0, 1.0, 1.03, 3.0];
-    let x = Tensor::<2>::from_data(TensorData::new(task.to_vec(), [1, TASK_INPUTS]), &device);
-    let burn_y = net
-        .denormalise_y(net.forward(x))
-        .into_data()
-        .try_into_vec_as::<f64>()
-        .unwrap();
+    let burn_y = burn_outputs(&net, &[task], &device);
     let (widths, params) = (file.widths.clone(), file.params.clone());
     let plain: infer::network::Network<'_, TASK_INPUTS, HYPOTHESES_TASK_OUTPUTS> =
         infer::network::Network::sized(&widths, &params).unwrap();
