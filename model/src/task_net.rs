@@ -73,7 +73,7 @@ impl TaskNet {
 
     /// Sequences the network gives per task (K).
     pub fn hypotheses(&self) -> usize {
-        dense::widths(&self.layers).last().copied().unwrap_or(0) / self.plan_outputs()
+        self.layers.last().map_or(0, |l| l.weight.dims()[1]) / self.plan_outputs()
     }
 
     /// Raw X [B, 6] → normalised box coordinates [B, K·P].

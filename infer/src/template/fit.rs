@@ -110,11 +110,7 @@ impl TemplateWork {
         let mut r = Refitting {
             work: self,
             planner,
-            screen: Config {
-                continuous_limits: false,
-                time_samples: settings.screen_samples,
-                ..*planner.config()
-            },
+            screen: settings.screen(planner.config()),
             weight_objective: settings.weight_objective,
         };
         compass(

@@ -274,6 +274,16 @@ impl Default for TemplateSettings {
 }
 
 impl TemplateSettings {
+    /// The refit's screen: the model `cfg` with its limits checked at the
+    /// time samples only, at [`Self::screen_samples`] of them.
+    pub(super) fn screen(&self, cfg: &Config) -> Config {
+        Config {
+            continuous_limits: false,
+            time_samples: self.screen_samples,
+            ..*cfg
+        }
+    }
+
     /// Error unless every setting is in its range for planning under `cfg`.
     pub fn validate(&self, cfg: &Config) -> Result<(), Error> {
         let ok = (1..=MAX_NEIGHBOURS).contains(&self.neighbours)

@@ -286,17 +286,10 @@ impl TemplateWork {
                     self.nearest_seeds(&mut near[used..], templates.first, expected, settings, 1);
             }
         }
-        let (lo, hi) = search_box(cfg, &self.design, self.skew);
-        let clamp = |v: &mut DigVars| {
-            for i in 0..DIG_VARS {
-                v[i] = v[i].clamp(lo[i], hi[i]);
-            }
-        };
         // Each seed carried over, its refit's state kept between rounds.
         self.racers = [None; MAX_NEIGHBOURS];
-        for (slot, (i, t)) in self.racers.iter_mut().zip(near.into_iter().flatten()) {
-            let mut vars = t.carried_to(cfg, &self.design);
-            vars[..t.count].iter_mut().for_each(clamp);
+        for (slot, (i, t)) in near.into_iter().flatten().enumerate() {
+            let vars = self.carried(cfg, &t);
             let c = Champion {
                 template: i,
                 count: t.count,
@@ -304,7 +297,7 @@ impl TemplateWork {
                 violation: f64::INFINITY,
                 value: f64::INFINITY,
             };
-            *slot = Some((c, [Axes::default(); MAX_TEMPLATE_DIGS]));
+            self.racers[slot] = Some((c, [Axes::default(); MAX_TEMPLATE_DIGS]));
         }
         self.race(planner, settings)
     }
@@ -378,28 +371,19 @@ impl TemplateWork {
     ) -> Result<Template, PlanError> {
         let cfg = planner.config();
         let first = net.predict(cfg, &self.task, &self.design, count)?;
-        let cost = net.hypotheses() * count;
-        if net.hypotheses() == 1
-            || self.evaluations + cost > settings.max_evaluations - MIN_EVALUATIONS
-        {
+        let k = net.hypotheses();
+        if k == 1 || self.evaluations + k * count > settings.max_evaluations - MIN_EVALUATIONS {
             return Ok(first);
         }
-        let screen = Config {
-            continuous_limits: false,
-            time_samples: settings.screen_samples,
-            ..*cfg
-        };
-        let (lo, hi) = search_box(cfg, &self.design, self.skew);
+        let screen = settings.screen(cfg);
         let mut best = (f64::INFINITY, first);
-        for h in 0..net.hypotheses() {
-            let t = net.predict_hypothesis(cfg, &self.task, &self.design, count, h)?;
+        for h in 0..k {
+            let t = match h {
+                0 => first,
+                _ => net.predict_hypothesis(cfg, &self.task, &self.design, count, h)?,
+            };
             self.candidate.count = t.count;
-            self.candidate.vars = t.carried_to(cfg, &self.design);
-            for v in &mut self.candidate.vars[..t.count] {
-                for i in 0..DIG_VARS {
-                    v[i] = v[i].clamp(lo[i], hi[i]);
-                }
-            }
+            self.candidate.vars = self.carried(cfg, &t);
             self.play_under(&screen, 0, settings.weight_objective, false);
             let key = self.candidate.value + self.candidate.violation;
             if key < best.0 {
@@ -407,6 +391,19 @@ impl TemplateWork {
             }
         }
         Ok(best.1)
+    }
+
+    /// `t`'s digs carried over to the task, each clamped into its search
+    /// box: how a seed starts.
+    fn carried(&self, cfg: &Config, t: &Template) -> [DigVars; MAX_TEMPLATE_DIGS] {
+        let (lo, hi) = search_box(cfg, &self.design, self.skew);
+        let mut vars = t.carried_to(cfg, &self.design);
+        for v in &mut vars[..t.count] {
+            for i in 0..DIG_VARS {
+                v[i] = v[i].clamp(lo[i], hi[i]);
+            }
+        }
+        vars
     }
 
     /// The nearest of `templates` (at most [`TemplateSettings::neighbours`]

@@ -168,11 +168,8 @@ impl TemplateWork {
             }
             p.after[j + 1][..w].copy_from_slice(&self.terrain.heights()[j0..j0 + w]);
         }
-        let (violation, objective) = p.score[..n]
-            .iter()
-            .fold((0.0, 0.0), |a, s| (a.0 + s.violation, a.1 + s.objective));
-        p.violation = violation;
-        self.candidate.value = self.profile_error() + weight_objective * objective / n as f64;
+        p.violation = p.score[..n].iter().fold(0.0, |a, s| a + s.violation);
+        self.candidate.value = self.value(&self.candidate.score[..n], weight_objective);
         true
     }
 
@@ -240,14 +237,18 @@ impl TemplateWork {
     /// counts it: what a retried plan and a first one are compared by.
     pub(super) fn plain_value(&mut self, weight_objective: f64) -> f64 {
         let excess = core::mem::take(&mut self.excess);
-        self.load(Side::Best, self.best.count);
         let n = self.best.count;
-        let objective = self.best.score[..n]
-            .iter()
-            .fold(0.0, |a, s| a + s.objective);
-        let value = self.profile_error() + weight_objective * objective / n as f64;
+        self.load(Side::Best, n);
+        let value = self.value(&self.best.score[..n], weight_objective);
         self.excess = excess;
         value
+    }
+
+    /// A played sequence's value on the working terrain it left: its
+    /// profile's error plus `weight_objective` × its digs' mean objective.
+    fn value(&self, score: &[DigScore], weight_objective: f64) -> f64 {
+        let objective = score.iter().fold(0.0, |a, s| a + s.objective);
+        self.profile_error() + weight_objective * objective / score.len() as f64
     }
 
     /// The candidate, which differs from the best from dig `j` on, becomes the best.

@@ -497,8 +497,7 @@ fn winner(
 ) -> (Tensor<1>, Tensor<2>) {
     let [b, p] = target_n.dims();
     let y = y_n.reshape([b, k, p]);
-    let error =
-        ((y.clone() - target_n.reshape([b, 1, p])).square() * mask.reshape([b, 1, p])).sum_dim(2);
+    let error = errors(y.clone(), target_n, mask);
     let least = error.clone().detach().min_dim(1);
     let nearest = error.clone().detach().lower_equal(least).float();
     // A tie (never seen) shares the task between the tied hypotheses.
@@ -506,6 +505,13 @@ fn winner(
     let weight = pick.clone() * (1.0 - LOSERS_SHARE) + LOSERS_SHARE / k as f64;
     let data = (error * weight).sum() / digs;
     (data, (y * pick).sum_dim(1).reshape([b, p]))
+}
+
+/// Each hypothesis's data error [B, K, 1]: of `y` [B, K, P] against the
+/// targets [B, P], squared, over the outputs `mask` [B, P] keeps.
+fn errors(y: Tensor<3>, target_n: Tensor<2>, mask: Tensor<2>) -> Tensor<3> {
+    let [b, p] = target_n.dims();
+    ((y - target_n.reshape([b, 1, p])).square() * mask.reshape([b, 1, p])).sum_dim(2)
 }
 
 /// Profile and fill terms of the plans `u` (box coordinates) played on
@@ -551,9 +557,7 @@ fn by_wins(
     let b = batch(train, device, cfg, &plain);
     let [n, p] = b.y.dims();
     let y = net.forward(b.x).reshape([n, k, p]);
-    let target = net.normalise_y(b.y).reshape([n, 1, p]);
-    let error = ((y - target).square() * b.mask.reshape([n, 1, p])).sum_dim(2);
-    let error = error
+    let error = errors(y, net.normalise_y(b.y), b.mask)
         .reshape([n * k])
         .into_data()
         .try_into_vec_as::<f64>()
