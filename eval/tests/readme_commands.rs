@@ -51,9 +51,13 @@ fn default_runs(root: &Path) -> Vec<(String, String)> {
                 if flags.iter().any(|w| *w == "--bin" || *w == "--example") {
                     continue;
                 }
-                if let Some(p) = flags.iter().position(|w| *w == "-p") {
+                let crate_name = flags
+                    .iter()
+                    .position(|w| *w == "-p")
+                    .and_then(|p| flags.get(p + 1));
+                if let Some(name) = crate_name {
                     let at = format!("{}:{}", doc.display(), number + 1);
-                    runs.push((flags[p + 1].to_string(), at));
+                    runs.push((name.to_string(), at));
                 }
             }
         }
