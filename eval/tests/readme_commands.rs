@@ -81,25 +81,18 @@ fn binaries(crate_dir: &Path, name: &str) -> (BTreeSet<String>, Option<String>) 
             }
         }
     }
-    let value = |line: &str, key: &str| {
-        let rest = line
-            .trim()
-            .strip_prefix(key)?
-            .trim_start()
-            .strip_prefix('=')?;
-        Some(rest.trim().trim_matches('"').to_string())
-    };
-    let mut default_run = None;
-    let mut in_bin = false;
-    for line in manifest.lines() {
-        if line.trim_start().starts_with('[') {
-            in_bin = line.trim() == "[[bin]]";
-        } else if let Some(v) = value(line, "default-run") {
-            default_run = Some(v);
-        } else if let (true, Some(v)) = (in_bin, value(line, "name")) {
-            names.insert(v);
+    let manifest: toml::Table = manifest.parse().expect("a manifest is TOML");
+    let bins = manifest.get("bin").and_then(|b| b.as_array());
+    for bin in bins.into_iter().flatten() {
+        if let Some(n) = bin.get("name").and_then(|n| n.as_str()) {
+            names.insert(n.to_string());
         }
     }
+    let default_run = manifest
+        .get("package")
+        .and_then(|p| p.get("default-run"))
+        .and_then(|d| d.as_str())
+        .map(str::to_string);
     (names, default_run)
 }
 
