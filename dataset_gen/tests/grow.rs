@@ -76,10 +76,16 @@ fn part(dir: &Path, p: usize) -> PathBuf {
 fn a_growth_keeps_the_planners_plans_and_resumes_to_the_same_file() {
     let planner = planner();
     let (templates, network) = inputs();
-    let from = round_one(&templates, &network);
     let settings = small();
     let dir = fresh_dir("resume");
-    let first = grow(&planner, from, &settings, &dir, None).unwrap();
+    let first = grow(
+        &planner,
+        round_one(&templates, &network),
+        &settings,
+        &dir,
+        None,
+    )
+    .unwrap();
     assert_eq!((first.tasks, first.resumed_parts), (5, 0));
     let given = TemplateFile::from_json(&templates).unwrap().templates;
     let file = TemplateFile::from_json(&grown(&dir)).unwrap().templates;
@@ -109,7 +115,14 @@ fn a_growth_keeps_the_planners_plans_and_resumes_to_the_same_file() {
     std::fs::remove_file(part(&dir, 1)).unwrap();
     std::fs::remove_file(part(&dir, 2)).unwrap();
     std::fs::remove_file(dir.join(GROWN_FILE)).unwrap();
-    let resumed = grow(&planner, from, &settings, &dir, None).unwrap();
+    let resumed = grow(
+        &planner,
+        round_one(&templates, &network),
+        &settings,
+        &dir,
+        None,
+    )
+    .unwrap();
     assert_eq!((resumed.resumed_parts, resumed.kept), (1, first.kept));
     assert_eq!(
         grown(&dir),
@@ -122,7 +135,15 @@ fn a_growth_keeps_the_planners_plans_and_resumes_to_the_same_file() {
         .num_threads(1)
         .build()
         .unwrap()
-        .install(|| grow(&planner, from, &settings, &one, None))
+        .install(|| {
+            grow(
+                &planner,
+                round_one(&templates, &network),
+                &settings,
+                &one,
+                None,
+            )
+        })
         .unwrap();
     assert_eq!(grown(&one), grown(&dir));
     // Other settings or another network in the same folder are refused.
@@ -130,15 +151,35 @@ fn a_growth_keeps_the_planners_plans_and_resumes_to_the_same_file() {
         seed: 6,
         ..settings
     };
-    let e = grow(&planner, from, &other, &dir, None).unwrap_err();
+    let e = grow(
+        &planner,
+        round_one(&templates, &network),
+        &other,
+        &dir,
+        None,
+    )
+    .unwrap_err();
     assert!(matches!(e, Error::BadSettings(_)), "{e}");
     let network_2 = artifact("task_network/seed_2.json");
-    let other = round_one(&templates, &network_2);
-    let e = grow(&planner, other, &settings, &dir, None).unwrap_err();
+    let e = grow(
+        &planner,
+        round_one(&templates, &network_2),
+        &settings,
+        &dir,
+        None,
+    )
+    .unwrap_err();
     assert!(matches!(e, Error::BadSettings(_)), "{e}");
     // A corrupt part is named, not planned over.
     std::fs::write(part(&dir, 0), "[null]").unwrap();
-    let e = grow(&planner, from, &settings, &dir, None).unwrap_err();
+    let e = grow(
+        &planner,
+        round_one(&templates, &network),
+        &settings,
+        &dir,
+        None,
+    )
+    .unwrap_err();
     assert!(e.to_string().contains("part_0000.json"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
     let _ = std::fs::remove_dir_all(&one);
