@@ -4,12 +4,9 @@
 //! ones. Few tasks at the least bound, so this runs in seconds.
 
 use dataset_gen::Error;
-use dataset_gen::library::{GROWN_FILE, GrowInputs, GrowSettings, grow, grow_rounds};
+use dataset_gen::library::{GROWN_FILE, GrowSettings, grow};
 use dataset_gen::tasks::random_task;
-use infer::plan::Origin;
-use infer::template::{
-    MAX_TEMPLATE_DIGS, MIN_EVALUATIONS, SeedTemplates, TaskNetworkFile, TemplateFile,
-};
+use infer::template::{MIN_EVALUATIONS, SeedTemplates, TaskNetworkFile, TemplateFile};
 use infer::trench::RandomRanges;
 use infer::{Config, Planner, PlannerSettings, Template, TemplateSettings};
 use std::path::{Path, PathBuf};
@@ -31,15 +28,6 @@ fn inputs() -> (String, String) {
         artifact("templates.json"),
         artifact("task_network/seed_1.json"),
     )
-}
-
-/// A first round's inputs.
-fn round_one<'a>(templates: &'a str, network: &'a str) -> GrowInputs<'a> {
-    GrowInputs {
-        templates,
-        network,
-        retry: None,
-    }
 }
 
 /// Five tasks in parts of two, at the least bound; plans within 10 % kept.
@@ -78,14 +66,7 @@ fn a_growth_keeps_the_planners_plans_and_resumes_to_the_same_file() {
     let (templates, network) = inputs();
     let settings = small();
     let dir = fresh_dir("resume");
-    let first = grow(
-        &planner,
-        round_one(&templates, &network),
-        &settings,
-        &dir,
-        None,
-    )
-    .unwrap();
+    let first = grow(&planner, &templates, &network, &settings, &dir, None).unwrap();
     assert_eq!((first.tasks, first.resumed_parts), (5, 0));
     let given = TemplateFile::from_json(&templates).unwrap().templates;
     let file = TemplateFile::from_json(&grown(&dir)).unwrap().templates;
@@ -115,14 +96,7 @@ fn a_growth_keeps_the_planners_plans_and_resumes_to_the_same_file() {
     std::fs::remove_file(part(&dir, 1)).unwrap();
     std::fs::remove_file(part(&dir, 2)).unwrap();
     std::fs::remove_file(dir.join(GROWN_FILE)).unwrap();
-    let resumed = grow(
-        &planner,
-        round_one(&templates, &network),
-        &settings,
-        &dir,
-        None,
-    )
-    .unwrap();
+    let resumed = grow(&planner, &templates, &network, &settings, &dir, None).unwrap();
     assert_eq!((resumed.resumed_parts, resumed.kept), (1, first.kept));
     assert_eq!(
         grown(&dir),
@@ -135,15 +109,7 @@ fn a_growth_keeps_the_planners_plans_and_resumes_to_the_same_file() {
         .num_threads(1)
         .build()
         .unwrap()
-        .install(|| {
-            grow(
-                &planner,
-                round_one(&templates, &network),
-                &settings,
-                &one,
-                None,
-            )
-        })
+        .install(|| grow(&planner, &templates, &network, &settings, &one, None))
         .unwrap();
     assert_eq!(grown(&one), grown(&dir));
     // Other settings or another network in the same folder are refused.
@@ -151,35 +117,14 @@ fn a_growth_keeps_the_planners_plans_and_resumes_to_the_same_file() {
         seed: 6,
         ..settings
     };
-    let e = grow(
-        &planner,
-        round_one(&templates, &network),
-        &other,
-        &dir,
-        None,
-    )
-    .unwrap_err();
+    let e = grow(&planner, &templates, &network, &other, &dir, None).unwrap_err();
     assert!(matches!(e, Error::BadSettings(_)), "{e}");
     let network_2 = artifact("task_network/seed_2.json");
-    let e = grow(
-        &planner,
-        round_one(&templates, &network_2),
-        &settings,
-        &dir,
-        None,
-    )
-    .unwrap_err();
+    let e = grow(&planner, &templates, &network_2, &settings, &dir, None).unwrap_err();
     assert!(matches!(e, Error::BadSettings(_)), "{e}");
     // A corrupt part is named, not planned over.
     std::fs::write(part(&dir, 0), "[null]").unwrap();
-    let e = grow(
-        &planner,
-        round_one(&templates, &network),
-        &settings,
-        &dir,
-        None,
-    )
-    .unwrap_err();
+    let e = grow(&planner, &templates, &network, &settings, &dir, None).unwrap_err();
     assert!(e.to_string().contains("part_0000.json"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
     let _ = std::fs::remove_dir_all(&one);
@@ -215,129 +160,9 @@ fn bad_settings_and_inputs_are_refused_before_any_work() {
             ..small()
         },
     ] {
-        assert!(grow(&planner, round_one(&templates, &network), &bad, &dir, None).is_err());
+        assert!(grow(&planner, &templates, &network, &bad, &dir, None).is_err());
     }
-    assert!(grow(&planner, round_one("{}", &network), &small(), &dir, None).is_err());
-    assert!(grow(&planner, round_one(&templates, "[]"), &small(), &dir, None).is_err());
+    assert!(grow(&planner, "{}", &network, &small(), &dir, None).is_err());
+    assert!(grow(&planner, &templates, "[]", &small(), &dir, None).is_err());
     assert!(!dir.exists(), "a refused growth made its folder");
-}
-
-#[test]
-fn a_second_round_adds_only_the_retrys_plans_to_the_grown_file() {
-    let planner = planner();
-    let (templates, network) = inputs();
-    let grown_text = artifact("templates_grown.json");
-    let inputs = GrowInputs {
-        retry: Some(&grown_text),
-        ..round_one(&templates, &network)
-    };
-    let settings = GrowSettings {
-        tasks: 8,
-        planner: TemplateSettings {
-            retry: MIN_EVALUATIONS + MAX_TEMPLATE_DIGS,
-            ..small().planner
-        },
-        ..small()
-    };
-    // Without the planner's retry, a second round is refused.
-    let dir = fresh_dir("second");
-    let e = grow(&planner, inputs, &small(), &dir, None).unwrap_err();
-    assert!(matches!(e, Error::BadSettings(_)), "{e}");
-    let report = grow(&planner, inputs, &settings, &dir, None).unwrap();
-    let first = TemplateFile::from_json(&templates).unwrap().templates;
-    let retry = TemplateFile::from_json(&grown_text).unwrap().templates;
-    let file = TemplateFile::from_json(&grown(&dir)).unwrap().templates;
-    assert_eq!(report.given, retry.len());
-    assert_eq!(file[..retry.len()], retry[..]);
-    let net_file = TaskNetworkFile::from_json(&network).unwrap();
-    let net = net_file.network().unwrap();
-    let seeds = SeedTemplates {
-        first: &first,
-        retry: &retry,
-    };
-    let plans: Vec<_> = (0..settings.tasks)
-        .filter_map(|i| {
-            let task = random_task(&planner, settings.seed, i, &RandomRanges::WIDE).unwrap();
-            let plan = planner.plan_learned_with(&task, &net, seeds, &settings.planner);
-            plan.ok()
-                .filter(|p| p.metrics.under_dug <= settings.within)
-                .filter(|p| p.metrics.over_dug <= settings.within)
-        })
-        .collect();
-    let retried = |p: &&infer::plan::Plan| matches!(p.origin, Some(Origin::RetryTemplate { .. }));
-    let expected: Vec<Template> = plans
-        .iter()
-        .filter(retried)
-        .map(|p| Template::from_plan(&planner, p).unwrap())
-        .collect();
-    assert!(
-        !expected.is_empty() && expected.len() < plans.len(),
-        "a probe that tells the retry's plans apart: {} of {} within the limit retried",
-        expected.len(),
-        plans.len()
-    );
-    assert_eq!(file[retry.len()..], expected[..]);
-    // Another retry file in the same folder is refused.
-    let other = GrowInputs {
-        retry: Some(&templates),
-        ..inputs
-    };
-    let e = grow(&planner, other, &settings, &dir, None).unwrap_err();
-    assert!(matches!(e, Error::BadSettings(_)), "{e}");
-    let _ = std::fs::remove_dir_all(&dir);
-}
-
-#[test]
-fn rounds_grow_each_from_the_file_before_on_the_next_seed() {
-    let planner = planner();
-    let (templates, network) = inputs();
-    let settings = GrowSettings {
-        tasks: 4,
-        planner: TemplateSettings {
-            retry: MIN_EVALUATIONS + MAX_TEMPLATE_DIGS,
-            ..small().planner
-        },
-        ..small()
-    };
-    let dir = fresh_dir("rounds");
-    let first = round_one(&templates, &network);
-    for (bad_rounds, bad_inputs) in [
-        (0, first),
-        (
-            2,
-            GrowInputs {
-                retry: Some(&templates),
-                ..first
-            },
-        ),
-    ] {
-        assert!(grow_rounds(&planner, bad_inputs, &settings, bad_rounds, &dir, None).is_err());
-    }
-    let reports = grow_rounds(&planner, first, &settings, 2, &dir, None).unwrap();
-    assert_eq!(reports.len(), 2);
-    // Round 1 is a growth without the retry, round 2 one on the next seed
-    // with it, from round 1's file; the folder's file is round 2's.
-    let alone = fresh_dir("rounds_alone");
-    let one = GrowSettings {
-        planner: small().planner,
-        ..settings
-    };
-    grow(&planner, first, &one, &alone, None).unwrap();
-    assert_eq!(grown(&dir.join("round_1")), grown(&alone));
-    let round_1 = grown(&alone);
-    let two = GrowSettings {
-        seed: 6,
-        ..settings
-    };
-    let again = fresh_dir("rounds_again");
-    let second = GrowInputs {
-        retry: Some(&round_1),
-        ..first
-    };
-    grow(&planner, second, &two, &again, None).unwrap();
-    assert_eq!(grown(&dir.join("round_2")), grown(&again));
-    assert_eq!(grown(&dir), grown(&again));
-    for d in [dir, alone, again] {
-        let _ = std::fs::remove_dir_all(d);
-    }
 }

@@ -287,9 +287,9 @@ enum Command {
     },
     /// The templates grown by the learned planner's own plans of fresh
     /// random tasks (wide ranges), each kept where it leaves at most
-    /// --within of the design under- and over-dug, in rounds: the seeds of
-    /// `plan`'s second attempt (artifacts/templates_grown.json).
-    /// Resumable; writes OUT/templates.json.
+    /// --within of the design under- and over-dug: the seeds of `plan`'s
+    /// second attempt (artifacts/templates_grown.json). Resumable; writes
+    /// OUT/templates.json.
     GrowTemplates {
         /// The templates the planner is seeded by, and the file grows from.
         #[arg(long, default_value = "artifacts/templates.json")]
@@ -297,11 +297,6 @@ enum Command {
         /// The task network that plans the fresh tasks.
         #[arg(long, default_value = "artifacts/task_network/seed_1.json")]
         network: PathBuf,
-        /// Rounds of growth: each after the first plans --tasks more on
-        /// the next seed with the retry from the round before's file, and
-        /// adds the plans the retry made (OUT/round_<r>).
-        #[arg(long, default_value_t = 3)]
-        rounds: usize,
         #[arg(long, default_value_t = GrowSettings::default().tasks)]
         tasks: usize,
         /// Seed of the fresh tasks (keep it away from eval's, 11 on).
@@ -690,7 +685,6 @@ fn main_inner() -> Result<(), Error> {
         Command::GrowTemplates {
             templates,
             network,
-            rounds,
             tasks,
             seed,
             within,
@@ -709,15 +703,16 @@ fn main_inner() -> Result<(), Error> {
                 within,
                 ..GrowSettings::default()
             };
-            let inputs = library::GrowInputs {
-                templates: &read(&templates)?,
-                network: &read(&network)?,
-                retry: None,
-            };
             let planner = default_planner()?;
             let bar = dataset_gen::jobs::progress_bar(0, "tasks", !no_progress);
-            let report =
-                library::grow_rounds(&planner, inputs, &settings, rounds, &out, Some(&bar))?;
+            let report = library::grow(
+                &planner,
+                &read(&templates)?,
+                &read(&network)?,
+                &settings,
+                &out,
+                Some(&bar),
+            )?;
             bar.finish_and_clear();
             print(&report)
         }

@@ -25,7 +25,7 @@ mod refit;
 mod repair;
 mod warm;
 
-pub use grow::{GROWN_FILE, GrowInputs, GrowReport, GrowSettings, grow, grow_rounds};
+pub use grow::{GROWN_FILE, GrowReport, GrowSettings, grow};
 pub use merged::{MergeReport, PLAN_TOPIC, merge, read_merged};
 pub use refit::{Library, Refit, refit_from_library};
 pub use repair::{RepairReport, RepairSettings, repair};
