@@ -6,7 +6,7 @@ use std::path::PathBuf;
 pub enum Error {
     #[error("bad problem: {0}")]
     BadProblem(String),
-    #[error("bad optimiser settings: {0}")]
+    #[error("bad settings: {0}")]
     BadSettings(String),
     #[error("bad shard spec `{0}`: expected k/n with 0 <= k < n (e.g. 0/4)")]
     BadShard(String),
