@@ -342,6 +342,27 @@ fn a_repair_searches_again_the_plans_that_miss_and_keeps_the_closer() {
         assert_eq!(b.verify(&p).unwrap(), b.metrics);
     }
 
+    // The misses are searched side by side: one thread gives the same.
+    let one = temp_dir("repair-one-thread");
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(|| repair(&p, &dir, &one, &settings, None))
+        .unwrap();
+    // (Each plan's wall-clock planning time aside.)
+    let timeless = |d: &std::path::Path| -> Vec<_> {
+        let mut plans = Library::load(d).unwrap().plans;
+        for (_, plan) in &mut plans {
+            plan.planning_seconds = 0.0;
+        }
+        plans.into_iter().map(|(_, p)| p).collect()
+    };
+    assert!(
+        timeless(&one) == timeless(&out),
+        "one thread planned otherwise"
+    );
+
     // A second run resumes: nothing searched, nothing rewritten.
     let kept = std::fs::read(entry_path(&out, 0)).unwrap();
     let again = repair(&p, &dir, &out, &settings, None).unwrap();

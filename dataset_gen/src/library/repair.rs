@@ -16,6 +16,7 @@ use crate::rng::derive_seed;
 use crate::sequence::{SequenceSettings, optimise_task};
 use infer::Planner;
 use infer::plan::Plan;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -92,7 +93,8 @@ pub struct RepairReport {
 /// its dig count, seeded by the library's seed and the task's number) and
 /// replaced where the new plan is closer (see the module doc). `to` is a
 /// library like any other (`templates`, `train_tasks` read it). A plan
-/// already in `to` is kept, so an interrupted repair resumes; the same
+/// already in `to` is kept, so an interrupted repair resumes; the misses
+/// are searched side by side (each search's restarts too), and the same
 /// settings give the same plans whatever the thread count. `bar` counts
 /// sequence evaluations; its length is set here.
 pub fn repair(
@@ -125,6 +127,9 @@ pub fn repair(
         bar.set_length(left.count() as u64 * settings.sequence.evaluations());
     }
     let mut report = RepairReport::default();
+    // Copied in order; the misses are searched side by side, each
+    // written as it ends, so an interruption loses only those under way.
+    let mut misses = Vec::new();
     for (path, plan) in &library.plans {
         let name = path
             .file_name()
@@ -133,36 +138,38 @@ pub fn repair(
         let out = to.join(name);
         if out.exists() {
             report.resumed += 1;
-            continue;
-        }
-        if !settings.misses(plan) {
+        } else if !settings.misses(plan) {
             write_whole(&out, &plan.to_json())?;
             report.copied += 1;
-            continue;
+        } else {
+            let index = name
+                .strip_prefix("task_")
+                .and_then(|n| n.strip_suffix(".json"))
+                .and_then(|n| n.parse::<u64>().ok())
+                .ok_or_else(|| {
+                    Error::BadArgument(format!("{}: not a library entry", path.display()))
+                })?;
+            misses.push((name, out, plan, index));
         }
-        let index = name
-            .strip_prefix("task_")
-            .and_then(|n| n.strip_suffix(".json"))
-            .and_then(|n| n.parse::<u64>().ok())
-            .ok_or_else(|| {
-                Error::BadArgument(format!("{}: not a library entry", path.display()))
-            })?;
-        let search = SequenceSettings {
-            digs: Some(plan.digs.len()),
-            skew: library.skew,
-            ..settings.sequence
-        };
-        let seed = derive_seed(manifest.seed ^ 0x4E9A, index);
-        let better = match optimise_task(planner, &plan.task, &search, seed, bar) {
-            Ok(new) if error(&new) < error(plan) => Some(new),
-            Ok(_) | Err(Error::BadProblem(_)) => None,
-            Err(e) => return Err(e),
-        };
-        let kept = better.as_ref().unwrap_or(plan);
-        write_whole(&out, &kept.to_json())?;
-        report
-            .searched
-            .push((name.to_string(), error(plan), error(kept)));
     }
+    report.searched = misses
+        .into_par_iter()
+        .map(|(name, out, plan, index)| {
+            let search = SequenceSettings {
+                digs: Some(plan.digs.len()),
+                skew: library.skew,
+                ..settings.sequence
+            };
+            let seed = derive_seed(manifest.seed ^ 0x4E9A, index);
+            let better = match optimise_task(planner, &plan.task, &search, seed, bar) {
+                Ok(new) if error(&new) < error(plan) => Some(new),
+                Ok(_) | Err(Error::BadProblem(_)) => None,
+                Err(e) => return Err(e),
+            };
+            let kept = better.as_ref().unwrap_or(plan);
+            write_whole(&out, &kept.to_json())?;
+            Ok((name.to_string(), error(plan), error(kept)))
+        })
+        .collect::<Result<_, Error>>()?;
     Ok(report)
 }

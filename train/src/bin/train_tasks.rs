@@ -33,6 +33,9 @@ struct Cli {
     /// Weight of the profile and fill terms (0: leave the plan's carving out).
     #[arg(long)]
     profile: Option<f64>,
+    /// Epochs over which the data term's weight falls from 1 to 0 (0: it stays).
+    #[arg(long)]
+    data_fade: Option<usize>,
     /// Sequences per task (1, or 3 with a skewed library: multiple choice).
     #[arg(long)]
     hypotheses: Option<usize>,
@@ -57,6 +60,9 @@ fn settings(cli: &Cli) -> Result<TaskTrainSettings, String> {
     }
     if let Some(v) = cli.profile {
         settings.profile = v;
+    }
+    if let Some(v) = cli.data_fade {
+        settings.data_fade = v;
     }
     if let Some(v) = cli.hypotheses {
         settings.hypotheses = v;

@@ -177,6 +177,10 @@ pub struct TaskTrainSettings {
     pub profile_dx: f64,
     /// Weight of R(W).
     pub regulariser: f64,
+    /// Epochs over which the data term's weight falls linearly from 1 to
+    /// 0, leaving the carved and physics terms (0: it stays 1). The best
+    /// epoch is chosen by the validation total at the last epoch's weight.
+    pub data_fade: usize,
     /// Sequences the network gives per task: 1, or
     /// `infer::template::learned::TASK_HYPOTHESES` (with the skews),
     /// trained by multiple choice (module docs).
@@ -197,12 +201,21 @@ impl Default for TaskTrainSettings {
             profile: 20.0,
             profile_dx: 0.01,
             regulariser: 1e-6,
+            data_fade: 0,
             hypotheses: 1,
         }
     }
 }
 
 impl TaskTrainSettings {
+    /// The data term's weight in `epoch` (from 0).
+    fn data_weight(&self, epoch: usize) -> f64 {
+        match self.data_fade {
+            0 => 1.0,
+            n => (1.0 - epoch as f64 / n as f64).max(0.0),
+        }
+    }
+
     pub fn validate(&self) -> Result<(), TrainError> {
         let ok = !self.hidden.is_empty()
             && self.hidden.iter().all(|&w| (1..=256).contains(&w))
@@ -417,7 +430,13 @@ impl Terms {
 }
 
 /// The loss terms of a batch and their weighted total.
-fn terms(net: &TaskNet, batch: &Batch, cfg: &infer::Config, s: &TaskTrainSettings) -> Terms {
+fn terms(
+    net: &TaskNet,
+    batch: &Batch,
+    cfg: &infer::Config,
+    s: &TaskTrainSettings,
+    data_weight: f64,
+) -> Terms {
     let y_n = net.forward(batch.x.clone());
     let target_n = net.normalise_y(batch.y.clone());
     let (data, y_n) = match net.hypotheses() {
@@ -465,7 +484,7 @@ fn terms(net: &TaskNet, batch: &Batch, cfg: &infer::Config, s: &TaskTrainSetting
         let n = pick.dims()[0] as f64;
         physics = physics + motion_penalty(&figures, s.margin) * (n / batch.digs);
     }
-    let total = data.clone()
+    let total = data.clone() * data_weight
         + physics.clone() * s.physics
         + (profile.clone() + fill.clone()) * s.profile
         + net.weight_penalty() * s.regulariser;
@@ -636,6 +655,7 @@ pub fn train_task_network(
                 &batch(&picked, &device, &cfg, settings),
                 &cfg,
                 settings,
+                settings.data_weight(epoch),
             );
             let (r, w) = (t.read(), chunk.len() as f64 / train.len() as f64);
             if ![r.data, r.physics, r.profile, r.fill]
@@ -656,7 +676,8 @@ pub fn train_task_network(
             net = optim.step(lr, net, grads);
         }
         let valid = net.valid();
-        let t = terms(&valid, &validation_batch, &cfg, settings);
+        let last = settings.data_weight(settings.epochs - 1);
+        let t = terms(&valid, &validation_batch, &cfg, settings, last);
         let (validation, total) = (t.read(), read(&t.total));
         if best.as_ref().is_none_or(|(t, _, _)| total < *t) {
             best = Some((total, epoch + 1, valid));
@@ -688,6 +709,19 @@ pub mod smoothness;
 mod tests {
     use super::*;
     use burn::tensor::FloatDType;
+
+    /// The data term's weight falls linearly to 0 over `data_fade` epochs
+    /// and stays there; without a fade it stays 1.
+    #[test]
+    fn the_data_term_fades_over_its_epochs() {
+        let fade = |n| TaskTrainSettings {
+            data_fade: n,
+            ..TaskTrainSettings::default()
+        };
+        let weights: Vec<f64> = (0..6).map(|e| fade(4).data_weight(e)).collect();
+        assert_eq!(weights, [1.0, 0.75, 0.5, 0.25, 0.0, 0.0]);
+        assert!((0..6).all(|e| fade(0).data_weight(e) == 1.0));
+    }
 
     /// Each task's data term falls on its nearest hypothesis, and that
     /// hypothesis is the plan handed on.

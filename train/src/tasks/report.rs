@@ -59,13 +59,17 @@ impl TaskTrainReport {
         let _ = writeln!(out, "# Task network training\n");
         let _ = writeln!(
             out,
-            "Library `{}`: {} tasks train, {} validate (every eighth), {} plans skipped. Hidden layers {:?}, {} epochs, physics weight {}, profile and fill weight {} (grid {} mm), margin {}.\n",
+            "Library `{}`: {} tasks train, {} validate (every eighth), {} plans skipped. Hidden layers {:?}, {} epochs, {}physics weight {}, profile and fill weight {} (grid {} mm), margin {}.\n",
             self.library,
             self.train_tasks,
             self.validation_tasks,
             self.skipped.plans.len(),
             self.settings.hidden,
             self.settings.epochs,
+            match self.settings.data_fade {
+                0 => String::new(),
+                n => format!("the data term's weight falling from 1 to 0 over the first {n}, "),
+            },
             self.settings.physics,
             self.settings.profile,
             self.settings.profile_dx * 1e3,
@@ -125,7 +129,7 @@ impl TaskTrainReport {
         }
         let _ = writeln!(
             out,
-            "\nData: mean over digs of the squared error of the normalised box coordinates (10, or 13 with the skews). Physics: mean over digs of the motion checks' penalty with the margin, each dig's query from its predicted poses on the surface the predicted plan leaves (from the library's dig when the profile weight is 0). Profile: the predicted plan carved on the surface, under- plus over-dug area as a fraction of the design's, mean over tasks. Fill: each predicted dig's carved volume beyond V_min or V_max, normalised by their gap, with the margin, mean over digs. Each seed keeps the network of the epoch with the least validation total (data + weights × the other terms). Loss curves: `loss.svg`. Quality on tasks: `eval learned`."
+            "\nData: mean over digs of the squared error of the normalised box coordinates (10, or 13 with the skews). Physics: mean over digs of the motion checks' penalty with the margin, each dig's query from its predicted poses on the surface the predicted plan leaves (from the library's dig when the profile weight is 0). Profile: the predicted plan carved on the surface, under- plus over-dug area as a fraction of the design's, mean over tasks. Fill: each predicted dig's carved volume beyond V_min or V_max, normalised by their gap, with the margin, mean over digs. Each seed keeps the network of the epoch with the least validation total (data at its last epoch's weight + weights × the other terms). Loss curves: `loss.svg`. Quality on tasks: `eval learned`."
         );
         out
     }
