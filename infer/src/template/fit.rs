@@ -127,7 +127,9 @@ impl TemplateWork {
     /// The best seed's refit made the best sequence again and refitted
     /// with the rest of the bound, less what the fallback's replay and
     /// retiming keep back; then what a settled refit leaves
-    /// ([`TemplateSettings::leftover`]).
+    /// ([`TemplateSettings::leftover`]). A best still infeasible is
+    /// restarted first: else a feasible runner-up that leaves material
+    /// (a dig fewer) would take its place on feasibility alone.
     pub(super) fn fit(
         &mut self,
         planner: &Planner,
@@ -139,6 +141,9 @@ impl TemplateWork {
         let limit = settings.max_evaluations - keep_back(settings, self.best.count);
         self.refit(planner, &mut steps, limit, settings);
         if settings.leftover {
+            if self.best.violation > 0.0 {
+                self.restart(planner, settings);
+            }
             self.runners_up(planner, settings);
             self.restart(planner, settings);
         }

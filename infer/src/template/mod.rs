@@ -240,6 +240,11 @@ pub struct TemplateSettings {
     /// task sets of `eval learned` (fresh seeds 11–15) and three networks
     /// (2026-12-06): 879 against 869 of 960 plans within 3 %, mean
     /// under-dug lower on every set, the slowest task's bound unchanged.
+    /// A winner still infeasible when its refit settles is refitted
+    /// again from the first steps before the runners-up go on, else a
+    /// feasible runner-up that leaves material (a dig fewer) wins on
+    /// feasibility alone (fresh seed 11's F23 for network 2: 43.6 → 3.2 %
+    /// under-dug, 2026-12-07; no other plan of five sets changed).
     pub leftover: bool,
     /// In a retry, the under-dug fraction beyond `tolerance` less
     /// [`EXCESS_MARGIN`] counts again × this in the refit's value, so
