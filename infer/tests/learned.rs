@@ -396,15 +396,15 @@ fn the_screen_picks_among_a_networks_hypotheses() {
 /// A winner still infeasible when its refit settles is refitted again
 /// before the runners-up go on. On `eval learned`'s F23 (fresh seed 11: a
 /// long shallow trench of two digs, each near the least volume), the
-/// shipped network of seed 2 wins the race with two digs that settle
-/// 106 cm³ short of it; before the restart a feasible one-dig runner-up
-/// took the plan, 43.6 % undug. (It pins that network: when the networks
-/// are trained again, this task may need replacing.)
+/// task network of seed 2 shipped at 112b0d2 (kept in `tests/data`: the
+/// networks trained since plan F23 without the restart) wins the race
+/// with two digs that settle 106 cm³ short of it; before the restart a
+/// feasible one-dig runner-up took the plan, 43.6 % undug.
 #[test]
 fn an_infeasible_winner_is_restarted_before_a_runner_up_of_fewer_digs_wins() {
     let planner = planner();
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../artifacts/task_network/seed_2.json");
+        .join("tests/data/task_network_112b0d2_seed_2.json");
     let file = TaskNetworkFile::from_json(&std::fs::read_to_string(path).unwrap()).unwrap();
     let net = file.network().unwrap();
     let templates = shipped_templates();
