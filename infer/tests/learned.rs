@@ -397,7 +397,7 @@ fn the_screen_picks_among_a_networks_hypotheses() {
 /// before the runners-up go on. On `eval learned`'s F23 (fresh seed 11: a
 /// long shallow trench of two digs, each near the least volume), the
 /// task network of seed 2 shipped at 112b0d2 (kept in `tests/data`: the
-/// networks trained since plan F23 without the restart) wins the race
+/// networks trained since plan F23 well even without it) wins the race
 /// with two digs that settle 106 cm³ short of it; before the restart a
 /// feasible one-dig runner-up took the plan, 43.6 % undug.
 #[test]
