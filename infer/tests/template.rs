@@ -209,6 +209,40 @@ fn task_a_from_the_shipped_templates_is_feasible_bounded_and_repeatable() {
 }
 
 #[test]
+fn a_good_enough_plan_ends_the_search_early_within_its_bounds() {
+    let planner = planner();
+    let templates = shipped_templates();
+    let seeds = SeedTemplates::same(&templates);
+    let full = TemplateSettings {
+        good_enough: [0.0; 2],
+        ..TemplateSettings::default()
+    };
+    let enough = TemplateSettings {
+        good_enough: [0.02, 0.025],
+        ..full
+    };
+    let spent = |p: &Plan| p.digs.iter().map(|r| r.dig.evaluations).sum::<usize>();
+    for name in ['B', 'C'] {
+        let task = TrenchTask::reference(name).unwrap();
+        let whole = planner.plan_from_templates(&task, seeds, &full).unwrap();
+        let early = planner.plan_from_templates(&task, seeds, &enough).unwrap();
+        let m = early.verify(&planner).unwrap();
+        assert_eq!(m, early.metrics);
+        assert!(m.under_dug <= 0.02 && m.over_dug <= 0.025, "{name}: {m:?}");
+        // The whole bound's plan is within them too, so the search stops
+        // short of it.
+        let w = whole.metrics;
+        assert!(w.under_dug <= 0.02 && w.over_dug <= 0.025, "{name}: {w:?}");
+        assert!(
+            2 * spent(&early) < spent(&whole),
+            "{name}: {} against {}",
+            spent(&early),
+            spent(&whole)
+        );
+    }
+}
+
+#[test]
 fn a_plan_too_fast_for_its_limits_is_retimed_before_it_is_given_up() {
     let p = planner();
     let task = TrenchTask::reference('A').unwrap();
@@ -254,6 +288,7 @@ fn a_retry_weighs_the_under_dug_excess_and_never_returns_worse() {
         max_evaluations: 100,
         retry: 0,
         tolerance: 0.01,
+        good_enough: [0.0; 2],
         ..TemplateSettings::default()
     };
     let mut acted = false;
@@ -314,6 +349,7 @@ fn a_plan_outside_the_tolerance_is_retried_and_the_better_kept() {
         neighbours: 2,
         max_evaluations: 100,
         retry: 0,
+        good_enough: [0.0; 2],
         ..TemplateSettings::default()
     };
     let first = p
@@ -509,6 +545,14 @@ fn bad_input_gives_an_error() {
         // Finer than the model's 129 samples.
         TemplateSettings {
             screen_samples: 130,
+            ..quick()
+        },
+        TemplateSettings {
+            good_enough: [0.02, -0.01],
+            ..quick()
+        },
+        TemplateSettings {
+            good_enough: [f64::NAN, 0.0],
             ..quick()
         },
     ] {

@@ -43,7 +43,9 @@ pub struct GrowSettings {
     /// Tasks a part holds: what an interruption can lose.
     pub part_tasks: usize,
     /// The planner's settings. The default has no retry: what is kept is
-    /// what the first attempt reaches from the given templates.
+    /// what the first attempt reaches from the given templates; nor an
+    /// early end (`good_enough`): a template made offline is worth the
+    /// whole bound.
     pub planner: TemplateSettings,
 }
 
@@ -56,6 +58,7 @@ impl Default for GrowSettings {
             part_tasks: 100,
             planner: TemplateSettings {
                 retry: 0,
+                good_enough: [0.0; 2],
                 ..TemplateSettings::default()
             },
         }

@@ -33,6 +33,11 @@ pub trait Refit<const N: usize = DIG_VARS> {
     fn moves(&self, _i: usize) -> bool {
         true
     }
+    /// Whether the best is good enough to stop for: the search then ends
+    /// and leaves the rest of its bound unspent.
+    fn done(&self) -> bool {
+        false
+    }
 }
 
 /// A dig's search directions and steps, in units of each variable's
@@ -71,9 +76,9 @@ const FIRST_STEP: f64 = 0.05;
 /// that gained first; a move is kept when it is better by Deb's rules (and
 /// its step then doubles, up to its first size); when neither direction
 /// gains, the step halves. Stops once a move could take the evaluations
-/// spent past `limit`, or every step is below `min_step` × its variable's
-/// range; `axes` holds what was reached. A variable whose range is empty
-/// never moves.
+/// spent past `limit`, every step is below `min_step` × its variable's
+/// range, or the best is [`Refit::done`]; `axes` holds what was reached.
+/// A variable whose range is empty never moves.
 ///
 /// Variable 0 of a dig, its type, never moves: a dig's type follows from
 /// its path ([`super::query_of`]), so a move of it would change nothing;
@@ -102,6 +107,9 @@ pub fn compass<const N: usize, R: Refit<N> + ?Sized>(
     let range: [f64; N] = core::array::from_fn(|m| hi[m] - lo[m]);
     let mixes: [bool; N] = core::array::from_fn(|m| m != TYPE && m != DURATION && range[m] > 0.0);
     let settled = |s: f64| s.abs() < min_step || s == 0.0;
+    if r.done() {
+        return;
+    }
     loop {
         for j in (0..n).rev() {
             for k in 0..N {
@@ -135,6 +143,9 @@ pub fn compass<const N: usize, R: Refit<N> + ?Sized>(
                         let a = &mut axes[j];
                         a.steps[k] = (2.0 * s).clamp(-FIRST_STEP, FIRST_STEP);
                         a.progress[k] += s;
+                        if r.done() {
+                            return;
+                        }
                         gained = true;
                         break;
                     }
@@ -237,6 +248,8 @@ mod tests {
         /// Whether x may move ([`Refit::moves`]).
         x_moves: bool,
         f: fn(f64, f64) -> f64,
+        /// The value [`Refit::done`] stops at.
+        enough: f64,
     }
 
     impl Refit<3> for Toy {
@@ -265,6 +278,9 @@ mod tests {
         fn moves(&self, i: usize) -> bool {
             i != 1 || self.x_moves
         }
+        fn done(&self) -> bool {
+            self.best_score().1 <= self.enough
+        }
     }
 
     fn toy(x_moves: bool, f: fn(f64, f64) -> f64) -> Toy {
@@ -275,6 +291,7 @@ mod tests {
             type_moves: 0,
             x_moves,
             f,
+            enough: f64::NEG_INFINITY,
         }
     }
 
@@ -327,5 +344,36 @@ mod tests {
             reached[1] < 1e-3 && reached[1] < 0.01 * reached[0],
             "{reached:?}"
         );
+    }
+
+    #[test]
+    fn a_good_enough_best_ends_the_search_with_the_bound_unspent() {
+        let bowl = |x: f64, y: f64| (x - 0.3) * (x - 0.3) + (y - 0.6) * (y - 0.6);
+        let (lo, hi) = BOX;
+        let mut spent = [0; 2];
+        let mut reached = [0.0; 2];
+        for (r, enough) in [f64::NEG_INFINITY, 0.01].into_iter().enumerate() {
+            let mut toy = toy(true, bowl);
+            toy.enough = enough;
+            let mut axes = [Axes::default()];
+            compass(&mut toy, &lo, &hi, &mut axes, 10_000, 1e-6, true);
+            (spent[r], reached[r]) = (toy.spent, toy.best_score().1);
+        }
+        // From 0.41 it stops at the first best at or below 0.01.
+        assert!(reached[1] <= 0.01 && reached[1] > 1e-3, "{reached:?}");
+        assert!(spent[1] < spent[0] / 2, "{spent:?}");
+        // A best good enough from the start spends nothing.
+        let mut toy = toy(true, bowl);
+        toy.enough = 1.0;
+        compass(
+            &mut toy,
+            &lo,
+            &hi,
+            &mut [Axes::default()],
+            10_000,
+            1e-6,
+            true,
+        );
+        assert_eq!(toy.spent, 0);
     }
 }

@@ -34,6 +34,7 @@ struct Refitting<'a> {
     /// model's, and close to its carving and value.
     screen: Config,
     weight_objective: f64,
+    good_enough: [f64; 2],
 }
 
 impl Refit for Refitting<'_> {
@@ -93,6 +94,10 @@ impl Refit for Refitting<'_> {
     fn moves(&self, i: usize) -> bool {
         i != DURATION || self.work.best.violation > 0.0 || self.weight_objective != 0.0
     }
+
+    fn done(&self) -> bool {
+        self.work.good_enough(self.good_enough)
+    }
 }
 
 impl TemplateWork {
@@ -112,6 +117,7 @@ impl TemplateWork {
             planner,
             screen: settings.screen(planner.config()),
             weight_objective: settings.weight_objective,
+            good_enough: settings.good_enough,
         };
         compass(
             &mut r,
@@ -141,21 +147,30 @@ impl TemplateWork {
         let limit = settings.max_evaluations - keep_back(settings, self.best.count);
         self.refit(planner, &mut steps, limit, settings);
         if settings.leftover {
-            if self.best.violation > 0.0 {
+            let infeasible = self.best.violation > 0.0;
+            if infeasible {
                 self.restart(planner, settings);
             }
-            self.runners_up(planner, settings);
-            self.restart(planner, settings);
+            // Restarted already and no runner-up took its place: the same
+            // search again would gain nothing.
+            if self.runners_up(planner, settings) || !infeasible {
+                self.restart(planner, settings);
+            }
         }
     }
 
     /// The race's runners-up, in their order, each refitted on from the
-    /// steps it reached while the bound allows; the best of all is kept.
-    fn runners_up(&mut self, planner: &Planner, settings: &TemplateSettings) {
+    /// steps it reached while the bound allows and the best is not good
+    /// enough; the best of all is kept. Whether one took the best's place.
+    fn runners_up(&mut self, planner: &Planner, settings: &TemplateSettings) -> bool {
+        let mut replaced = false;
         for rank in 1..MAX_NEIGHBOURS {
             let Some((runner, mut steps)) = self.racers[rank] else {
                 break;
             };
+            if self.good_enough(settings.good_enough) {
+                break;
+            }
             let kept = Champion::of(self.seed, &self.best);
             // The kept plan's replay, should the runner-up not beat it,
             // and the last stage of either.
@@ -163,19 +178,22 @@ impl TemplateWork {
                 - kept.count
                 - keep_back(settings, kept.count.max(runner.count));
             if self.evaluations + runner.count + MIN_GO_ON > limit {
-                return;
+                break;
             }
             self.replay(planner, &runner, settings);
             self.refit(planner, &mut steps, limit, settings);
-            if !better(
+            if better(
                 self.best.violation,
                 self.best.value,
                 kept.violation,
                 kept.value,
             ) {
+                replaced = true;
+            } else {
                 self.replay(planner, &kept, settings);
             }
         }
+        replaced
     }
 
     /// The best refitted again from the compass's first steps, while that

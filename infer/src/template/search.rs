@@ -59,10 +59,13 @@ struct Kept {
 }
 
 /// What the seeds' search hands on: the best refit of a seed by value
-/// plus violation with the steps it reached, and the best feasible one.
+/// plus violation with the steps it reached, the best feasible one, and
+/// whether the champion, the best sequence now, is good enough already
+/// ([`TemplateSettings::good_enough`]).
 pub(super) struct Seeds {
     pub champion: (Champion, Steps),
     pub fallback: Option<Champion>,
+    pub good_enough: bool,
 }
 
 impl TemplateWork {
@@ -198,7 +201,9 @@ impl TemplateWork {
         let expected = planner.digs_for(task)?;
         self.start(planner, task)?;
         let seeds = self.search(planner, source, expected, settings)?;
-        self.fit(planner, seeds.champion, settings);
+        if !seeds.good_enough {
+            self.fit(planner, seeds.champion, settings);
+        }
         if let Some(f) = seeds.fallback.filter(|_| self.best.violation > 0.0) {
             self.replay(planner, &f, settings);
         }
@@ -334,6 +339,15 @@ impl TemplateWork {
                 if c.violation == 0.0 && fallback.as_ref().is_none_or(|f| c.value < f.value) {
                     fallback = Some(c);
                 }
+                if self.good_enough(settings.good_enough) {
+                    // The race ends with it in the lead.
+                    self.racers[..=rank].rotate_right(1);
+                    return Ok(Seeds {
+                        champion: (c, steps),
+                        fallback,
+                        good_enough: true,
+                    });
+                }
             }
             let key = |r: &Option<(Champion, Steps)>| {
                 r.as_ref().map_or(f64::INFINITY, |(c, _)| c.penalised())
@@ -353,6 +367,7 @@ impl TemplateWork {
         Ok(Seeds {
             champion: self.racers[0].ok_or(PlanError::NoTemplate)?,
             fallback,
+            good_enough: false,
         })
     }
 

@@ -212,25 +212,43 @@ impl TemplateWork {
     /// of a plan's time.
     fn profile_error(&self) -> f64 {
         let (j0, w) = self.window;
-        let ground = self.design.ground;
-        let (mut under, mut over) = (0.0f64, 0.0f64);
-        let surface = &self.terrain.heights()[j0..j0 + w];
-        for (&s, &d) in surface.iter().zip(&self.design_heights[..w]) {
-            under += (s.min(ground) - d).max(0.0);
-            over += (d - s).max(0.0);
-        }
-        let (dx, area) = (self.terrain.dx(), self.design.area());
-        let error = under * dx / area + over * dx / area;
+        let (under, over) = self.fractions(&self.terrain.heights()[j0..j0 + w]);
+        let error = under + over;
         debug_assert_eq!(error.to_bits(), {
             let m = self.design.compare(&self.terrain);
             (m.under_dug + m.over_dug).to_bits()
         });
         let Excess { weight, from } = self.excess;
         if weight > 0.0 {
-            error + weight * (under * dx / area - from).max(0.0)
+            error + weight * (under - from).max(0.0)
         } else {
             error
         }
+    }
+
+    /// The under- and over-dug fractions of the design that `surface`,
+    /// the window's heights, leaves.
+    fn fractions(&self, surface: &[f64]) -> (f64, f64) {
+        let ground = self.design.ground;
+        let (mut under, mut over) = (0.0f64, 0.0f64);
+        for (&s, &d) in surface.iter().zip(&self.design_heights[..surface.len()]) {
+            under += (s.min(ground) - d).max(0.0);
+            over += (d - s).max(0.0);
+        }
+        let (dx, area) = (self.terrain.dx(), self.design.area());
+        (under * dx / area, over * dx / area)
+    }
+
+    /// Whether the best plan holds every limit and leaves under- and
+    /// over-dug fractions of the design within `good_enough`
+    /// ([`TemplateSettings::good_enough`]).
+    pub(super) fn good_enough(&self, good_enough: [f64; 2]) -> bool {
+        if self.best.violation > 0.0 {
+            return false;
+        }
+        let (n, w) = (self.best.count, self.window.1);
+        let (under, over) = self.fractions(&self.best.after[n][..w]);
+        under <= good_enough[0] && over <= good_enough[1]
     }
 
     /// The best plan's value without a retry's excess, as a first attempt
