@@ -318,6 +318,17 @@ fn run(args: Args) -> Result<(), String> {
             None => println!("  grown from {origin}"),
         }
     }
+    if plan.origin.is_some() {
+        let [under, over] = ts.good_enough.map(|g| g * 100.0);
+        let retry = match ts.retry {
+            0 => String::new(),
+            r => format!(", a miss retried with {r} more"),
+        };
+        println!(
+            "  bound: {} exact evaluations{retry}; a search ends at a plan within {under} % under- and {over} % over-dug (--template-settings)",
+            ts.max_evaluations
+        );
+    }
     for r in &plan.digs {
         let d = &r.dig;
         println!(
