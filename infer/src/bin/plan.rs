@@ -325,7 +325,7 @@ fn run(args: Args) -> Result<(), String> {
             r => format!(", a miss retried with {r} more"),
         };
         println!(
-            "  bound: {} exact evaluations{retry}; a search ends at a plan within {under} % under- and {over} % over-dug (--template-settings)",
+            "  bound: {} exact evaluations{retry}; a search ends at a plan within {under:.2} % under- and {over:.2} % over-dug (--template-settings)",
             ts.max_evaluations
         );
     }
