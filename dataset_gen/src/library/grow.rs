@@ -59,6 +59,7 @@ impl Default for GrowSettings {
             planner: TemplateSettings {
                 retry: 0,
                 good_enough: [0.0; 2],
+                levenberg: false,
                 ..TemplateSettings::default()
             },
         }

@@ -1,6 +1,7 @@
 //! Fit: the compass search ([`crate::sequence::compass`]) refits the best
-//! sequence; a move of dig k replays digs k.. only, on the surfaces the
-//! digs before it left.
+//! sequence, after Levenberg–Marquardt steps from a feasible best
+//! (`levenberg.rs`); a move of dig k replays digs k.. only, on the
+//! surfaces the digs before it left.
 //!
 //! Each move is screened and played in continuous time only if it beats
 //! the best there. Against a feasible best (with no weight on the digs'
@@ -112,6 +113,10 @@ impl TemplateWork {
         settings: &TemplateSettings,
     ) {
         let (lo, hi) = search_box(planner.config(), &self.design, self.skew);
+        // Its sweeps value a plan by its surface alone.
+        if settings.levenberg && settings.weight_objective == 0.0 {
+            self.levenberg(planner, &lo, &hi, limit, settings.good_enough);
+        }
         let mut r = Refitting {
             work: self,
             planner,

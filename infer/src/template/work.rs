@@ -45,6 +45,8 @@ impl TemplateWork {
             racers: [None; MAX_NEIGHBOURS],
             design_heights: [0.0; WINDOW],
             excess: Excess::default(),
+            linear: Default::default(),
+            swept: [0.0; MAX_TEMPLATE_DIGS],
         })
     }
 
@@ -197,6 +199,7 @@ impl TemplateWork {
                 self.evaluations += n - j - 1;
                 return false;
             }
+            self.swept[j] = volume.unwrap_or(0.0);
             self.terrain.commit(&self.carve);
         }
         self.candidate.value = self.profile_error();
