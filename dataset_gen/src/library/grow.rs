@@ -59,7 +59,6 @@ impl Default for GrowSettings {
             planner: TemplateSettings {
                 retry: 0,
                 good_enough: [0.0; 2],
-                levenberg: false,
                 ..TemplateSettings::default()
             },
         }

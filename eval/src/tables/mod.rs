@@ -466,9 +466,14 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
             let s = &t.settings;
             let _ = writeln!(
                 out,
-                "\n## Whole tasks: from templates (infer's template planner)\n\nThe {} templates (the plan library's whole-task plans, `{}`) whose tasks are nearest each task, carried over to its design (start x and chord stretched from edge to edge), raced by successive halving and the winner refitted further by the compass search, its directions turned: at most {} exact dig evaluations per task in all. Planning time: one core, one task after the other.\n",
+                "\n## Whole tasks: from templates (infer's template planner)\n\nThe {} templates (the plan library's whole-task plans, `{}`) whose tasks are nearest each task, carried over to its design (start x and chord stretched from edge to edge), raced by successive halving and the winner refitted further by {}the compass search, its directions turned: at most {} exact dig evaluations per task in all. Planning time: one core, one task after the other.\n",
                 s.neighbours,
                 t.file.display(),
+                if s.levenberg {
+                    "Levenberg–Marquardt steps (every dig at once, from a feasible plan) and "
+                } else {
+                    ""
+                },
                 s.max_evaluations
             );
             whole_plans_table(&mut out, report, |w| w.templates.as_ref());

@@ -276,9 +276,9 @@ pub struct TemplateSettings {
     /// digs' objective, which its sweeps do not see. Over `eval
     /// learned`'s 64 tasks and three networks (2026-12-07, AMD EPYC),
     /// against none, fresh seed 11: 3 misses of 192 against 3, mean
-    /// under-dug 1.38–1.57 against 1.53–1.67 %, the median task 34
-    /// against 56 ms; seed 12: 0 against 1, 1.39–1.46 against 1.54–1.61
-    /// %, 37 against 58 ms.
+    /// under-dug 1.37–1.57 against 1.53–1.67 %, the median task 36–37
+    /// against 52–62 ms; seed 12: 0 against 1, 1.37–1.45 against
+    /// 1.54–1.61 %, 41 against 58 ms (all 192 plans).
     pub levenberg: bool,
 }
 
