@@ -113,7 +113,8 @@ impl TemplateWork {
         settings: &TemplateSettings,
     ) {
         let (lo, hi) = search_box(planner.config(), &self.design, self.skew);
-        // Its sweeps value a plan by its surface alone.
+        // The steps' carvings value a plan by its surface alone, so not
+        // with a weight on the digs' objective.
         if settings.levenberg && settings.weight_objective == 0.0 {
             self.levenberg(planner, &lo, &hi, limit, settings.good_enough);
         }
