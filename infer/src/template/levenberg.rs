@@ -341,3 +341,57 @@ fn solve(l: &Linear, free: &[usize], damping: f64) -> Option<[f64; COLS]> {
     }
     Some(x)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 3 × 3 symmetric positive definite system over columns 4, 0 and 7.
+    fn system() -> Box<Linear> {
+        let mut l = Box::<Linear>::default();
+        let a = [[4.0, 1.0, 0.5], [1.0, 3.0, -0.2], [0.5, -0.2, 2.0]];
+        let cols = [4, 0, 7];
+        for (p, &cp) in cols.iter().enumerate() {
+            for (s, &cs) in cols.iter().enumerate() {
+                l.normal[cp][cs] = a[p][s];
+            }
+        }
+        l.gradient[4] = 1.0;
+        l.gradient[0] = -2.0;
+        l.gradient[7] = 0.5;
+        l
+    }
+
+    #[test]
+    fn the_damped_normal_equations_are_solved_over_the_free_columns() {
+        let l = system();
+        let free = [4, 0, 7];
+        for damping in [0.0, 0.1] {
+            let x = solve(&l, &free, damping).unwrap();
+            // (A + λ · 4 · I) x = g, 4 the largest diagonal entry.
+            for (p, &cp) in free.iter().enumerate() {
+                let ax: f64 = free
+                    .iter()
+                    .enumerate()
+                    .map(|(s, &cs)| l.normal[cp][cs] * x[s])
+                    .sum::<f64>()
+                    + damping * 4.0 * x[p];
+                assert!(
+                    (ax - l.gradient[cp]).abs() < 1e-12,
+                    "{ax} vs {}",
+                    l.gradient[cp]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_system_with_nothing_to_move_has_no_step() {
+        let l = Box::<Linear>::default();
+        assert!(solve(&l, &[0, 1], 1e-4).is_none());
+        let mut l = system();
+        // Not positive definite once a pivot turns negative.
+        l.normal[0][0] = -1.0;
+        assert!(solve(&l, &[4, 0, 7], 0.0).is_none());
+    }
+}
