@@ -97,7 +97,6 @@ impl TemplateWork {
     ) {
         let range: DigVars = core::array::from_fn(|m| hi[m] - lo[m]);
         let mut damping = FIRST_DAMPING;
-        self.sample_nodes();
         while self.best.violation == 0.0 && !self.good_enough(good_enough) {
             let n = self.best.count;
             // A linearisation and a try's sweep and play.
@@ -130,8 +129,8 @@ impl TemplateWork {
     }
 
     /// The surface's rows: the design's span and [`MARGIN`] either side,
-    /// at most [`SURFACE_ROWS`] of its nodes, evenly.
-    fn sample_nodes(&mut self) {
+    /// at most [`SURFACE_ROWS`] of its nodes, evenly (once a task).
+    pub(super) fn sample_nodes(&mut self) {
         let (j0, w) = self.window;
         let t = &self.terrain;
         let node = |x: f64| (((x - t.x0()) / t.dx()).max(0.0) as usize).clamp(j0, j0 + w - 1) - j0;

@@ -247,6 +247,7 @@ impl TemplateWork {
         }
         self.best.after[0][..w].copy_from_slice(&t.heights()[j0..j0 + w]);
         self.candidate.after[0] = self.best.after[0];
+        self.sample_nodes();
         self.best.violation = f64::INFINITY;
         self.best.value = f64::INFINITY;
         Ok(())
