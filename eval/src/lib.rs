@@ -32,6 +32,7 @@ pub mod pipeline;
 pub mod planning;
 pub mod plots;
 pub mod predictor;
+pub mod reproduced;
 pub mod seeds;
 pub mod summary;
 pub mod tables;

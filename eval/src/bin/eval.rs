@@ -252,12 +252,24 @@ enum Command {
         #[arg(long, default_value = "artifacts/templates.json")]
         templates: String,
     },
+    /// Whether a rerun reproduced a committed JSON report: every value
+    /// compared but the wall-clock ones (timings, rates, the host). Exits
+    /// with 1 and lists the values that differ, if any.
+    SameFigures {
+        /// The committed report, e.g. artifacts/learned/report.json.
+        committed: PathBuf,
+        /// The rerun's report, e.g. runs/learned/report.json.
+        rerun: PathBuf,
+        /// Differences listed at most.
+        #[arg(long, default_value_t = 20)]
+        show: usize,
+    },
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match run(cli) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::from(2)
@@ -270,7 +282,7 @@ fn command_line() -> String {
     format!("cargo run --release -p eval -- {}", args.join(" "))
 }
 
-fn run(cli: Cli) -> Result<(), EvalError> {
+fn run(cli: Cli) -> Result<ExitCode, EvalError> {
     // Build the pool first: training would otherwise size it to one thread.
     let threads = cli.threads.unwrap_or(0);
     if cli.threads == Some(0) {
@@ -480,8 +492,47 @@ fn run(cli: Cli) -> Result<(), EvalError> {
             benchmarks::write(&out, &s)?;
             print!("{}", benchmarks::markdown(&s));
         }
+        Command::SameFigures {
+            committed,
+            rerun,
+            show,
+        } => return same_figures(&committed, &rerun, show),
     }
-    Ok(())
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `eval same-figures`: see [`Command::SameFigures`].
+fn same_figures(
+    committed: &std::path::Path,
+    rerun: &std::path::Path,
+    show: usize,
+) -> Result<ExitCode, EvalError> {
+    let a: serde_json::Value = read_json(committed)?;
+    let b: serde_json::Value = read_json(rerun)?;
+    let c = eval::reproduced::compare(&a, &b);
+    let value =
+        |v: &Option<serde_json::Value>| v.as_ref().map_or("(none)".into(), |v| v.to_string());
+    for d in c.differences.iter().take(show) {
+        println!("{}: {} → {}", d.path, value(&d.committed), value(&d.rerun));
+    }
+    if c.differences.len() > show {
+        println!("… and {} more", c.differences.len() - show);
+    }
+    println!(
+        "{} values compared, {} wall-clock ones left out: {}",
+        c.compared,
+        c.skipped,
+        if c.same() {
+            "the same figures".to_string()
+        } else {
+            format!("{} differ", c.differences.len())
+        }
+    );
+    Ok(if c.same() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
 }
 
 /// A settings file: JSON of `T`, any field left out keeping its default.
