@@ -41,6 +41,16 @@ fn bad_input_exits_with_2() {
         ],
         &["learned", "--retry-templates", "/nonexistent"],
         &[
+            "same-figures",
+            "/nonexistent",
+            "artifacts/learned/report.json",
+        ],
+        &[
+            "same-figures",
+            "artifacts/learned/report.md",
+            "artifacts/learned/report.json",
+        ],
+        &[
             "pipeline",
             "--task-network",
             "/nonexistent",
@@ -54,6 +64,41 @@ fn bad_input_exits_with_2() {
         assert!(err.starts_with("error: "), "{args:?}: {err}");
     }
     assert!(!Path::new(untouched).exists());
+}
+
+#[test]
+fn same_figures_exits_with_1_where_a_figure_differs() {
+    let committed = "artifacts/bounds/report.json";
+    let same = eval()
+        .args(["same-figures", committed, committed])
+        .output()
+        .unwrap();
+    assert_eq!(same.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&same.stdout).contains("the same figures"));
+    // A rerun whose first row finished one task fewer, its timings moved too.
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("..")
+            .join(committed),
+    )
+    .unwrap();
+    let mut report: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let row = &mut report["points"][0]["totals"];
+    row["finished"] = (row["finished"].as_u64().unwrap() - 1).into();
+    row["median_planning_ms"] = 1e9.into();
+    let rerun = std::env::temp_dir().join(format!("eval-rerun-{}.json", std::process::id()));
+    std::fs::write(&rerun, report.to_string()).unwrap();
+    let out = eval()
+        .args(["same-figures", committed, rerun.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let printed = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        printed.starts_with("/points/0/totals/finished: "),
+        "{printed}"
+    );
+    assert!(printed.contains("1 differ"), "{printed}");
 }
 
 #[test]
