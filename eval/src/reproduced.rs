@@ -1,6 +1,7 @@
 //! Whether a rerun reproduced a committed report: every value of the two
 //! JSON reports compared, but the wall-clock ones, which move with the
-//! host and its load (`eval same-figures`).
+//! host and its load, and the run's own history (paths, what a resume
+//! reused) (`eval same-figures`).
 //!
 //! Why: the project claims that the same command, config and seed give
 //! the same figures on any machine, timings aside; a user on a new
@@ -9,10 +10,12 @@
 
 use serde_json::Value;
 
-/// Keys whose values are wall-clock timings, rates or facts about the
-/// host, in any of eval's reports (`report.json`, `pipeline.json`).
+/// Keys whose values are wall-clock timings, rates, facts about the
+/// host or the run's history, in any of eval's reports (`report.json`,
+/// `pipeline.json`).
 pub const HOST_KEYS: &[&str] = &[
     "command",
+    "computed",
     "dig_seconds",
     "elapsed_s",
     "load_average",
@@ -25,8 +28,10 @@ pub const HOST_KEYS: &[&str] = &[
     "out",
     "planning_seconds",
     "report",
+    "resumed_from",
     "samples_per_s",
     "seconds",
+    "skipped",
     "speedup_vs_pso",
     "steps",
     "wall_time_s",
@@ -58,8 +63,10 @@ impl Comparison {
     }
 }
 
-/// Compares `rerun` with `committed`, leaving out [`HOST_KEYS`] and, of a
-/// goal (an object with a `what`) about time, its `measured` and `met`.
+/// Compares `rerun` with `committed`, leaving out [`HOST_KEYS`], a
+/// `networks` that is a folder (the figures under that key are compared)
+/// and, of a goal (an object with a `what`) about time, its `measured`
+/// and `met`.
 pub fn compare(committed: &Value, rerun: &Value) -> Comparison {
     let mut c = Comparison::default();
     walk(&mut c, String::new(), Some(committed), Some(rerun));
@@ -78,7 +85,9 @@ fn walk(c: &mut Comparison, path: String, a: Option<&Value>, b: Option<&Value>) 
             keys.sort();
             keys.dedup();
             for k in keys {
+                let folder = k == "networks" && x.get(k).is_some_and(Value::is_string);
                 let host = HOST_KEYS.contains(&k.as_str())
+                    || folder
                     || (timing_goal && (k == "measured" || k == "met"));
                 if host {
                     c.skipped += 1;

@@ -71,7 +71,9 @@ pub struct DataConfig {
 #[serde(deny_unknown_fields)]
 pub struct Budget {
     pub max_epochs: usize,
-    /// Wall-clock budget of the run, resumed parts included \[s\].
+    /// Wall-clock guard of the run, resumed parts included \[s\]: set
+    /// above what `max_epochs` take, since a run the clock stops depends
+    /// on the host's speed and load (`StopReason::WallClock` says so).
     pub max_seconds: f64,
     /// Stop as soon as every validation loss term meets its target.
     pub stop_at_targets: bool,
@@ -170,7 +172,7 @@ impl TrainConfig {
             },
             budget: Budget {
                 max_epochs: 2000,
-                max_seconds: 300.0,
+                max_seconds: 1800.0,
                 stop_at_targets: false,
                 extra_epochs_after_targets: 0,
             },

@@ -38,7 +38,8 @@ struct Cli {
     config: Option<PathBuf>,
     #[arg(long)]
     max_epochs: Option<usize>,
-    /// Wall-clock budget per type and variant [s].
+    /// Wall-clock guard per type and variant [s] (default 1800): the epochs are the
+    /// budget; a run the clock stops first depends on the host.
     #[arg(long)]
     max_seconds: Option<f64>,
     /// Stop when every validation loss term meets its target.
