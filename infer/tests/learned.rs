@@ -138,10 +138,7 @@ fn a_learned_plan_is_feasible_bounded_repeatable_and_allocation_free() {
     // Replayed from flat ground, every dig holds under the exact model.
     assert_eq!(plan.verify(&planner).unwrap(), plan.metrics);
     let spent: usize = plan.digs.iter().map(|r| r.dig.evaluations).sum();
-    assert!(
-        spent <= settings.max_evaluations + settings.retry,
-        "{spent} evaluations"
-    );
+    assert!(spent <= settings.bound(), "{spent} evaluations");
     let again = planner.plan_learned(&task, &net, &settings).unwrap();
     assert_eq!(
         serde_json::to_value(&plan.digs).unwrap(),
@@ -279,7 +276,7 @@ fn a_miss_is_retried_from_the_retry_templates() {
         work.retried() && work.seed() > 0,
         "the retry's template won"
     );
-    assert!(work.evaluations() <= settings.max_evaluations + settings.retry);
+    assert!(work.evaluations() <= settings.bound());
     let plan = planner
         .plan_learned_with(&task, &net, seeds, &settings)
         .unwrap();
@@ -321,7 +318,7 @@ fn the_least_bound_holds_with_every_seed_racing() {
     for task in reference.into_iter().chain([wide, deep]) {
         let _ = work.plan_learned_with(&planner, &task, &net, seeds, &settings);
         assert!(
-            work.evaluations() <= settings.max_evaluations + settings.retry,
+            work.evaluations() <= settings.bound(),
             "{task:?}: {} evaluations",
             work.evaluations()
         );

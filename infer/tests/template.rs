@@ -402,8 +402,8 @@ fn a_plan_outside_the_tolerance_is_retried_and_the_better_kept() {
     work.plan(&p, &task, SeedTemplates::same(&templates), &retry)
         .unwrap();
     assert_eq!(allocations(), before, "a retried plan allocated");
-    assert!(work.evaluations() > once.max_evaluations);
-    assert!(work.evaluations() <= once.max_evaluations + retry.retry);
+    assert!(work.evaluations() > once.max_evaluations + retry.retry);
+    assert!(work.evaluations() <= retry.bound());
     let retried = p
         .plan_from_templates(&task, SeedTemplates::same(&templates), &retry)
         .unwrap();
@@ -413,6 +413,15 @@ fn a_plan_outside_the_tolerance_is_retried_and_the_better_kept() {
         missed(&retried) < missed(&first) - 1e-3,
         "the retry found no better plan"
     );
+    // A second retry, where the first still misses, keeps the better plan.
+    let one = TemplateSettings {
+        retries: 1,
+        ..retry
+    };
+    let once_retried = p
+        .plan_from_templates(&task, SeedTemplates::same(&templates), &one)
+        .unwrap();
+    assert!(missed(&retried) <= missed(&once_retried));
     // A retry too small to do better: the first plan is kept, as it was.
     let larger = TemplateSettings {
         max_evaluations: 600,
@@ -568,6 +577,18 @@ fn bad_input_gives_an_error() {
         },
         TemplateSettings {
             seed_share: 1.5,
+            ..quick()
+        },
+        TemplateSettings {
+            retries: 0,
+            ..quick()
+        },
+        TemplateSettings {
+            retries: 3,
+            ..quick()
+        },
+        TemplateSettings {
+            retry_seed_shares: [0.7, f64::NAN],
             ..quick()
         },
         TemplateSettings {

@@ -236,12 +236,11 @@ fn learned_name(seed: u64, bound: &str, settings: &TemplateSettings) -> String {
 
 /// The bound a planner ran with, as its name says it.
 fn bound_label(settings: &TemplateSettings) -> String {
-    match settings.retry {
-        0 => format!("≤ {} evaluations", settings.max_evaluations),
-        r => format!(
-            "≤ {} evaluations, a miss retried with {r}",
-            settings.max_evaluations
-        ),
+    let m = settings.max_evaluations;
+    match (settings.retry, settings.retries) {
+        (0, _) => format!("≤ {m} evaluations"),
+        (r, 1) => format!("≤ {m} evaluations, a miss retried with {r}"),
+        (r, n) => format!("≤ {m} evaluations, a miss retried up to {n} × with {r}"),
     }
 }
 
@@ -383,10 +382,22 @@ mod tests {
             learned_name(2, "refit", &s),
             "learned seed 2 (refit, ≤ 9600 evaluations)"
         );
-        let retried = TemplateSettings { retry: 19200, ..s };
+        let retried = TemplateSettings {
+            retry: 19200,
+            retries: 1,
+            ..s
+        };
         assert_eq!(
             learned_name(2, "refit", &retried),
             "learned seed 2 (refit, ≤ 9600 evaluations, a miss retried with 19200)"
+        );
+        let twice = TemplateSettings {
+            retries: 2,
+            ..retried
+        };
+        assert_eq!(
+            learned_name(2, "refit", &twice),
+            "learned seed 2 (refit, ≤ 9600 evaluations, a miss retried up to 2 × with 19200)"
         );
     }
 

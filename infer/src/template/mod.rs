@@ -59,6 +59,9 @@ pub const MAX_TEMPLATE_DIGS: usize = 6;
 /// always fit, and some refit.
 pub const MIN_EVALUATIONS: usize = 100;
 
+/// Retries of a plan that misses, at most ([`TemplateSettings::retries`]).
+pub const MAX_RETRIES: usize = 2;
+
 /// A whole-task plan kept as its digs' variables, with the task it was
 /// made for.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -214,13 +217,25 @@ pub struct TemplateSettings {
     /// against 847 of 960 plans within 3 %, mean under-dug 1.74 against
     /// 1.77 % (2026-12-06); at 4,800 evaluations it did not pay.
     pub rotate: bool,
-    /// Evaluations of a second attempt for a plan that misses the design
-    /// by more than `tolerance` (or that found no plan); the better plan
-    /// is kept, so a task takes at most `max_evaluations` + `retry`. 0:
-    /// none. A second race ends in other basins, most of all from other
-    /// seeds ([`SeedTemplates::retry`]), so it mends some misses: see the
+    /// Evaluations of each retry of a plan that misses the design by more
+    /// than `tolerance` (or that found no plan); the best plan is kept, so
+    /// a task takes at most [`Self::bound`]. 0: none. A second race ends
+    /// in other basins, most of all from other seeds
+    /// ([`SeedTemplates::retry`]), so it mends some misses: see the
     /// crate's README for the default's figures.
     pub retry: usize,
+    /// Retries at most (1 to [`MAX_RETRIES`]), each only while the plan
+    /// still misses.
+    pub retries: usize,
+    /// The seeds' race's share of each retry's bound, in order (the first
+    /// attempt's is `seed_share`). Why a second retry with a longer race:
+    /// which basin a local search settles in is chaotic in its settings
+    /// (F02 of fresh seed 11 ends 2.5–5.8 % under-dug from one share to the
+    /// next), and a race that looks longer at each seed before choosing
+    /// lands elsewhere. Over `eval learned`'s tasks, fresh seeds 11–13 and
+    /// three networks (2026-12-07, Intel Xeon), `[0.7, 0.9]` against one
+    /// retry at 0.7: see the crate's README.
+    pub retry_seed_shares: [f64; MAX_RETRIES],
     /// The under- and over-dug fractions of the design a plan may leave
     /// before it is retried.
     pub tolerance: f64,
@@ -294,6 +309,8 @@ impl Default for TemplateSettings {
             retime: true,
             rotate: true,
             retry: 9600,
+            retries: 2,
+            retry_seed_shares: [0.7, 0.9],
             tolerance: 0.03,
             screen_samples: 65,
             leftover: true,
@@ -315,6 +332,12 @@ impl TemplateSettings {
         }
     }
 
+    /// The most evaluations a task may take: the first attempt's and every
+    /// retry's.
+    pub fn bound(&self) -> usize {
+        self.max_evaluations + self.retries * self.retry
+    }
+
     /// Error unless every setting is in its range for planning under `cfg`.
     pub fn validate(&self, cfg: &Config) -> Result<(), Error> {
         let ok = (1..=MAX_NEIGHBOURS).contains(&self.neighbours)
@@ -325,6 +348,11 @@ impl TemplateSettings {
             && self.min_step > 0.0
             && self.min_step < 1.0
             && (self.retry == 0 || self.retry >= MIN_EVALUATIONS + MAX_TEMPLATE_DIGS)
+            && (1..=MAX_RETRIES).contains(&self.retries)
+            && self
+                .retry_seed_shares
+                .iter()
+                .all(|s| (0.0..=1.0).contains(s))
             && self.tolerance >= 0.0
             && self.tolerance.is_finite()
             && self.retry_excess >= 0.0
@@ -335,7 +363,7 @@ impl TemplateSettings {
             Ok(())
         } else {
             Err(Error::BadConfig {
-                field: "template settings (neighbours 1–8, max_evaluations ≥ 100, weight_objective ≥ 0, seed_share in [0, 1], min_step in (0, 1), retry 0 or ≥ 106, tolerance ≥ 0, retry_excess ≥ 0, good_enough's two in [0, 1], screen_samples 3 to the model's time_samples)",
+                field: "template settings (neighbours 1–8, max_evaluations ≥ 100, weight_objective ≥ 0, seed_share in [0, 1], min_step in (0, 1), retry 0 or ≥ 106, retries 1–2, retry_seed_shares in [0, 1], tolerance ≥ 0, retry_excess ≥ 0, good_enough's two in [0, 1], screen_samples 3 to the model's time_samples)",
             })
         }
     }

@@ -51,11 +51,13 @@ impl<'s, 'n> Source<'s, 'n> {
     }
 }
 
-/// A first attempt's plan kept while a retry runs.
+/// The plan made so far, kept while a retry runs.
 struct Kept {
     plan: Champion,
     stretch: [f64; MAX_TEMPLATE_DIGS],
     dig_evaluations: [usize; MAX_TEMPLATE_DIGS],
+    /// Whether it came from a retry (its seed one of the retry's templates).
+    retried: bool,
 }
 
 /// What the seeds' search hands on: the best refit of a seed by value
@@ -119,11 +121,12 @@ impl TemplateWork {
         self.plan_from(planner, task, Source::Network(network, templates), settings)
     }
 
-    /// One attempt ([`Self::attempt`]), and where its plan misses the
+    /// One attempt ([`Self::attempt`]), and while its plan misses the
     /// design by more than [`TemplateSettings::tolerance`] (or there is
-    /// none), a second with [`TemplateSettings::retry`] evaluations that
-    /// counts the under-dug excess ([`TemplateSettings::retry_excess`]);
-    /// the better plan is kept.
+    /// none), up to [`TemplateSettings::retries`] more, each with
+    /// [`TemplateSettings::retry`] evaluations, its own race share, and
+    /// the under-dug excess counted ([`TemplateSettings::retry_excess`]);
+    /// the best plan is kept.
     fn plan_from(
         &mut self,
         planner: &Planner,
@@ -134,14 +137,37 @@ impl TemplateWork {
         settings.validate(planner.config())?;
         self.retried = false;
         self.excess = Excess::default();
-        let first = self.attempt(planner, task, source, settings);
-        if settings.retry == 0 || (first.is_ok() && self.within(settings.tolerance)) {
-            return first;
+        let mut outcome = self.attempt(planner, task, source, settings);
+        if settings.retry == 0 {
+            return outcome;
         }
-        let kept = first.is_ok().then(|| Kept {
+        for &seed_share in &settings.retry_seed_shares[..settings.retries] {
+            if outcome.is_ok() && self.within(settings.tolerance) {
+                break;
+            }
+            outcome = self.retry(planner, task, source, settings, seed_share, outcome.is_ok());
+        }
+        outcome
+    }
+
+    /// A retry of the plan made (`made`: there is one) with the retry's
+    /// templates, the retry's bound and `seed_share`; the retried plan is
+    /// kept if it is within the tolerance or, by the first attempt's
+    /// value, better, else the plan made is replayed.
+    fn retry(
+        &mut self,
+        planner: &Planner,
+        task: &TrenchTask,
+        source: Source<'_, '_>,
+        settings: &TemplateSettings,
+        seed_share: f64,
+        made: bool,
+    ) -> Result<(), PlanError> {
+        let kept = made.then(|| Kept {
             plan: Champion::of(self.seed, &self.best),
             stretch: self.stretch,
             dig_evaluations: self.dig_evaluations,
+            retried: self.retried,
         });
         let spent = self.evaluations;
         // The kept plan's replay comes out of the retry's bound (at least
@@ -149,17 +175,16 @@ impl TemplateWork {
         let reserve = kept.as_ref().map_or(0, |k| k.plan.count);
         let again = TemplateSettings {
             max_evaluations: settings.retry - reserve,
+            seed_share,
             ..*settings
         };
         self.excess = Excess {
             weight: settings.retry_excess,
             from: (settings.tolerance - EXCESS_MARGIN).max(0.0),
         };
-        let second = self.attempt(planner, task, source.for_retry(), &again);
+        let retried = self.attempt(planner, task, source.for_retry(), &again);
         self.evaluations += spent;
-        // Kept: a retried plan within the tolerance, else the better by
-        // the first attempt's value.
-        let retried_better = second.is_ok()
+        let retried_better = retried.is_ok()
             && (self.within(settings.tolerance)
                 || kept
                     .as_ref()
@@ -170,13 +195,14 @@ impl TemplateWork {
                 self.replay(planner, &k.plan, settings);
                 self.stretch = k.stretch;
                 self.dig_evaluations = k.dig_evaluations;
+                self.retried = k.retried;
                 self.check(planner)?;
                 self.planned = self.best.count;
                 Ok(())
             }
             _ => {
                 self.retried = true;
-                second
+                retried
             }
         }
     }
