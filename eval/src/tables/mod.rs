@@ -491,10 +491,18 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
                 ),
                 None => "alone (no templates given)".into(),
             };
-            let bound = report.settings.templates.as_ref().map_or_else(
-                || infer::TemplateSettings::default().max_evaluations,
-                |t| t.settings.max_evaluations,
-            );
+            let ts = report
+                .settings
+                .templates
+                .as_ref()
+                .map_or_else(infer::TemplateSettings::default, |t| t.settings);
+            let bound = match ts.retry {
+                0 => format!("{}", ts.max_evaluations),
+                r => format!(
+                    "{} (a miss retried up to {} times with {r} more)",
+                    ts.max_evaluations, ts.retries
+                ),
+            };
             let seeds_run: Vec<String> = report
                 .learned_seeds
                 .iter()
