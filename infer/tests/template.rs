@@ -347,6 +347,16 @@ fn a_retry_weighs_the_under_dug_excess_and_never_returns_worse() {
             };
             assert_eq!(plan.verify(&p).unwrap(), plan.metrics);
             let within = plan.metrics.under_dug <= 0.01 && plan.metrics.over_dug <= 0.01;
+            // Nor worse than one retry: the second compares plain values.
+            let one = TemplateSettings {
+                retries: 1,
+                ..settings
+            };
+            let once_retried = p.plan_from_templates(&task, seeds, &one);
+            assert!(
+                within || once_retried.is_ok_and(|o| missed(&plan) <= missed(&o)),
+                "{id} at {retry_excess}: a second retry returned a worse plan"
+            );
             assert!(
                 within
                     || first.as_ref().is_ok_and(|f| missed(&plan) <= missed(f))

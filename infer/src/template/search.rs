@@ -163,8 +163,13 @@ impl TemplateWork {
         seed_share: f64,
         made: bool,
     ) -> Result<(), PlanError> {
+        // Valued as a first attempt values a plan: a retried one's value
+        // counted its excess.
         let kept = made.then(|| Kept {
-            plan: Champion::of(self.seed, &self.best),
+            plan: Champion {
+                value: self.plain_value(settings.weight_objective),
+                ..Champion::of(self.seed, &self.best)
+            },
             stretch: self.stretch,
             dig_evaluations: self.dig_evaluations,
             retried: self.retried,
