@@ -54,8 +54,9 @@ impl PipelineSettings {
     /// The built-in defaults: 2,000 digs per type (about 2 minutes on 2
     /// cores), three training seeds of 2,000 epochs per type (the two at
     /// once, about 3.5 minutes a seed; the 1,800 s guard stops only a
-    /// machine far slower or busier than these), the full evaluation (about 4 minutes) and the other
-    /// seeds' learned figures (seconds), and a held-out dataset of 600
+    /// machine far slower or busier than these), the full evaluation
+    /// (about 4 minutes) and the other seeds' learned figures
+    /// (seconds), and a held-out dataset of 600
     /// digs per type (about 40 s): about 15–17 minutes in all. Why
     /// 2,000 and not 1,000: every seed's backward network reaches the
     /// 97 % goal and the seeds spread less (`experiments.md`, 2026-12-06).
