@@ -423,15 +423,15 @@ fn a_plan_outside_the_tolerance_is_retried_and_the_better_kept() {
         missed(&retried) < missed(&first) - 1e-3,
         "the retry found no better plan"
     );
-    // A second retry, where the first still misses, keeps the better plan.
-    let one = TemplateSettings {
-        retries: 1,
-        ..retry
-    };
-    let once_retried = p
-        .plan_from_templates(&task, SeedTemplates::same(&templates), &one)
-        .unwrap();
-    assert!(missed(&retried) <= missed(&once_retried));
+    // Each retry more, where the one before still misses (the last with
+    // its seeds in a dig more), keeps the better plan.
+    for retries in [1, 2] {
+        let fewer = TemplateSettings { retries, ..retry };
+        let fewer_retried = p
+            .plan_from_templates(&task, SeedTemplates::same(&templates), &fewer)
+            .unwrap();
+        assert!(missed(&retried) <= missed(&fewer_retried), "{retries}");
+    }
     // A retry too small to do better: the first plan is kept, as it was.
     let larger = TemplateSettings {
         max_evaluations: 600,
@@ -594,11 +594,15 @@ fn bad_input_gives_an_error() {
             ..quick()
         },
         TemplateSettings {
-            retries: 3,
+            retries: 4,
             ..quick()
         },
         TemplateSettings {
-            retry_seed_shares: [0.7, f64::NAN],
+            retry_seed_shares: [0.7, f64::NAN, 0.9],
+            ..quick()
+        },
+        TemplateSettings {
+            retry_more_digs: [0, 0, 6],
             ..quick()
         },
         TemplateSettings {

@@ -237,10 +237,9 @@ fn learned_name(seed: u64, bound: &str, settings: &TemplateSettings) -> String {
 /// The bound a planner ran with, as its name says it.
 fn bound_label(settings: &TemplateSettings) -> String {
     let m = settings.max_evaluations;
-    match (settings.retry, settings.retries) {
-        (0, _) => format!("≤ {m} evaluations"),
-        (r, 1) => format!("≤ {m} evaluations, a miss retried with {r}"),
-        (r, n) => format!("≤ {m} evaluations, a miss retried up to {n} × with {r}"),
+    match settings.retry {
+        0 => format!("≤ {m} evaluations"),
+        _ => format!("≤ {m} evaluations, {}", settings.retry_label()),
     }
 }
 
@@ -389,7 +388,7 @@ mod tests {
         };
         assert_eq!(
             learned_name(2, "refit", &retried),
-            "learned seed 2 (refit, ≤ 9600 evaluations, a miss retried with 19200)"
+            "learned seed 2 (refit, ≤ 9600 evaluations, a miss retried with 19200 evaluations)"
         );
         let twice = TemplateSettings {
             retries: 2,
@@ -397,7 +396,16 @@ mod tests {
         };
         assert_eq!(
             learned_name(2, "refit", &twice),
-            "learned seed 2 (refit, ≤ 9600 evaluations, a miss retried up to 2 × with 19200)"
+            "learned seed 2 (refit, ≤ 9600 evaluations, a miss retried up to 2 × with 19200 evaluations)"
+        );
+        let thrice = TemplateSettings {
+            retries: 3,
+            retry_more_digs: [0, 2, 1],
+            ..retried
+        };
+        assert_eq!(
+            learned_name(2, "refit", &thrice),
+            "learned seed 2 (refit, ≤ 9600 evaluations, a miss retried up to 3 × with 19200 evaluations, retry 2 in 2 digs more, retry 3 in 1 dig more)"
         );
     }
 

@@ -498,10 +498,7 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
                 .map_or_else(infer::TemplateSettings::default, |t| t.settings);
             let bound = match ts.retry {
                 0 => format!("{}", ts.max_evaluations),
-                r => format!(
-                    "{} (a miss retried up to {} times with {r} more)",
-                    ts.max_evaluations, ts.retries
-                ),
+                _ => format!("{} ({})", ts.max_evaluations, ts.retry_label()),
             };
             let seeds_run: Vec<String> = report
                 .learned_seeds

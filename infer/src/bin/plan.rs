@@ -320,10 +320,9 @@ fn run(args: Args) -> Result<(), String> {
     }
     if plan.origin.is_some() {
         let [under, over] = ts.good_enough.map(|g| g * 100.0);
-        let retry = match (ts.retry, ts.retries) {
-            (0, _) => String::new(),
-            (r, 1) => format!(", a miss retried with {r} more"),
-            (r, n) => format!(", a miss retried up to {n} times with {r} more each"),
+        let retry = match ts.retry {
+            0 => String::new(),
+            _ => format!(", {}", ts.retry_label()),
         };
         println!(
             "  bound: {} exact evaluations{retry}; a search ends at a plan within {under:.2} % under- and {over:.2} % over-dug (--template-settings)",

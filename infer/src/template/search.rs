@@ -137,21 +137,34 @@ impl TemplateWork {
         settings.validate(planner.config())?;
         self.retried = false;
         self.excess = Excess::default();
-        let mut outcome = self.attempt(planner, task, source, settings);
+        let mut outcome = self.attempt(planner, task, source, settings, 0);
         if settings.retry == 0 {
             return outcome;
         }
-        for &seed_share in &settings.retry_seed_shares[..settings.retries] {
+        let again = settings
+            .retry_seed_shares
+            .iter()
+            .zip(settings.retry_more_digs);
+        for (&seed_share, more_digs) in again.take(settings.retries) {
             if outcome.is_ok() && self.within(settings.tolerance) {
                 break;
             }
-            outcome = self.retry(planner, task, source, settings, seed_share, outcome.is_ok());
+            let made = outcome.is_ok();
+            outcome = self.retry(
+                planner,
+                task,
+                source,
+                settings,
+                (seed_share, more_digs),
+                made,
+            );
         }
         outcome
     }
 
     /// A retry of the plan made (`made`: there is one) with the retry's
-    /// templates, the retry's bound and `seed_share`; the retried plan is
+    /// templates, the retry's bound, and its `seed_share` and `more_digs`
+    /// ([`TemplateSettings::retry_more_digs`]); the retried plan is
     /// kept if it is within the tolerance or, by the first attempt's
     /// value, better, else the plan made is replayed.
     fn retry(
@@ -160,7 +173,7 @@ impl TemplateWork {
         task: &TrenchTask,
         source: Source<'_, '_>,
         settings: &TemplateSettings,
-        seed_share: f64,
+        (seed_share, more_digs): (f64, usize),
         made: bool,
     ) -> Result<(), PlanError> {
         // Valued as a first attempt values a plan: a retried one's value
@@ -187,7 +200,7 @@ impl TemplateWork {
             weight: settings.retry_excess,
             from: (settings.tolerance - EXCESS_MARGIN).max(0.0),
         };
-        let retried = self.attempt(planner, task, source.for_retry(), &again);
+        let retried = self.attempt(planner, task, source.for_retry(), &again, more_digs);
         self.evaluations += spent;
         let retried_better = retried.is_ok()
             && (self.within(settings.tolerance)
@@ -219,17 +232,19 @@ impl TemplateWork {
         m.under_dug <= tolerance && m.over_dug <= tolerance
     }
 
-    /// The plan's phases in order: seeds raced, the winner refitted, the
-    /// fallback if it stays infeasible, retiming, the final check.
+    /// The plan's phases in order: seeds raced (planned in the expected
+    /// dig count and `more_digs`), the winner refitted, the fallback if it
+    /// stays infeasible, retiming, the final check.
     fn attempt(
         &mut self,
         planner: &Planner,
         task: &TrenchTask,
         source: Source<'_, '_>,
         settings: &TemplateSettings,
+        more_digs: usize,
     ) -> Result<(), PlanError> {
         self.planned = 0;
-        let expected = planner.digs_for(task)?;
+        let expected = planner.digs_for(task)? + more_digs;
         self.start(planner, task)?;
         let seeds = self.search(planner, source, expected, settings)?;
         if !seeds.good_enough {
