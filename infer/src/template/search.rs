@@ -124,9 +124,9 @@ impl TemplateWork {
     /// One attempt ([`Self::attempt`]), and while its plan misses the
     /// design by more than [`TemplateSettings::tolerance`] (or there is
     /// none), up to [`TemplateSettings::retries`] more, each with
-    /// [`TemplateSettings::retry`] evaluations, its own race share, and
-    /// the under-dug excess counted ([`TemplateSettings::retry_excess`]);
-    /// the best plan is kept.
+    /// [`TemplateSettings::retry`] evaluations, its own race share and
+    /// dig count, and the under-dug excess counted
+    /// ([`TemplateSettings::retry_excess`]); the best plan is kept.
     fn plan_from(
         &mut self,
         planner: &Planner,
