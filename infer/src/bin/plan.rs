@@ -322,7 +322,7 @@ fn run(args: Args) -> Result<(), String> {
         let [under, over] = ts.good_enough.map(|g| g * 100.0);
         let retry = match ts.retry {
             0 => String::new(),
-            _ => format!(", {}", ts.retry_label()),
+            _ => format!(", {} ({} in all at most)", ts.retry_label(), ts.bound()),
         };
         println!(
             "  bound: {} exact evaluations{retry}; a search ends at a plan within {under:.2} % under- and {over:.2} % over-dug (--template-settings)",
