@@ -6,7 +6,19 @@ use infer::template::TemplateFile;
 
 /// `artifacts/templates.json`.
 pub fn shipped_templates() -> Vec<Template> {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/templates.json");
+    templates_in("templates.json")
+}
+
+/// `artifacts/templates_grown.json`: what `plan` retries a miss from.
+#[allow(dead_code)] // not every test binary that includes this file retries
+pub fn grown_templates() -> Vec<Template> {
+    templates_in("templates_grown.json")
+}
+
+fn templates_in(file: &str) -> Vec<Template> {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../artifacts")
+        .join(file);
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     TemplateFile::from_json(&text).unwrap().templates
 }
