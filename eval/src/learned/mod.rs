@@ -373,40 +373,34 @@ mod tests {
 
     #[test]
     fn a_planners_name_says_its_bound_and_any_retry() {
-        let s = TemplateSettings {
-            retry: 0,
-            ..TemplateSettings::default()
-        };
-        assert_eq!(
-            learned_name(2, "refit", &s),
-            "learned seed 2 (refit, ≤ 9600 evaluations)"
-        );
-        let retried = TemplateSettings {
-            retry: 19200,
-            retries: 1,
-            ..s
-        };
-        assert_eq!(
-            learned_name(2, "refit", &retried),
-            "learned seed 2 (refit, ≤ 9600 evaluations, a miss retried with 19200 evaluations)"
-        );
-        let twice = TemplateSettings {
-            retries: 2,
-            ..retried
-        };
-        assert_eq!(
-            learned_name(2, "refit", &twice),
-            "learned seed 2 (refit, ≤ 9600 evaluations, a miss retried up to 2 × with 19200 evaluations)"
-        );
-        let thrice = TemplateSettings {
-            retries: 3,
-            retry_more_digs: [0, 2, 1],
-            ..retried
-        };
-        assert_eq!(
-            learned_name(2, "refit", &thrice),
-            "learned seed 2 (refit, ≤ 9600 evaluations, a miss retried up to 3 × with 19200 evaluations, retry 2 in 2 digs more, retry 3 in 1 dig more)"
-        );
+        let cases = [
+            (0, 1, [0; 3], ""),
+            (19200, 1, [0; 3], ", a miss retried with 19200 evaluations"),
+            (
+                19200,
+                2,
+                [0; 3],
+                ", a miss retried up to 2 × with 19200 evaluations",
+            ),
+            (
+                19200,
+                3,
+                [0, 2, 1],
+                ", a miss retried up to 3 × with 19200 evaluations, retry 2 in 2 digs more, retry 3 in 1 dig more",
+            ),
+        ];
+        for (retry, retries, retry_more_digs, said) in cases {
+            let s = TemplateSettings {
+                retry,
+                retries,
+                retry_more_digs,
+                ..TemplateSettings::default()
+            };
+            assert_eq!(
+                learned_name(2, "refit", &s),
+                format!("learned seed 2 (refit, ≤ 9600 evaluations{said})")
+            );
+        }
     }
 
     #[test]
