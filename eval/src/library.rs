@@ -17,7 +17,7 @@ use std::path::PathBuf;
 /// `train_tasks` writes them) a whole-task comparison also plans every
 /// task from, as `plan` does by default: each network's sequences and the
 /// nearest templates (of [`TemplatePlanning`], when given, and its retry
-/// templates for a second attempt) as seeds, refitted within the template
+/// templates for a miss's retries) as seeds, refitted within the template
 /// planner's bound. The first seed's is `plan`'s default.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -288,7 +288,7 @@ enum Command {
     /// The templates grown by the learned planner's own plans of fresh
     /// random tasks (wide ranges), each kept where it leaves at most
     /// --within of the design under- and over-dug: the seeds of `plan`'s
-    /// second attempt (artifacts/templates_grown.json). Resumable; writes
+    /// retries (artifacts/templates_grown.json). Resumable; writes
     /// OUT/templates.json.
     GrowTemplates {
         /// The templates the planner is seeded by, and the file grows from.

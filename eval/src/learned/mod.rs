@@ -48,7 +48,7 @@ pub struct LearnedRow {
 pub struct Compared {
     /// The template planner's and the learned planner's first attempt's.
     pub templates: Vec<Template>,
-    /// Their second attempt's ([`SeedTemplates::retry`]).
+    /// Their retries' ([`SeedTemplates::retry`]).
     pub retry_templates: Vec<Template>,
     pub dig_networks: Option<Networks>,
 }

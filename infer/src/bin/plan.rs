@@ -54,7 +54,7 @@ struct Args {
     /// beside the network's sequences, or `none` for the network's alone
     #[arg(long, conflicts_with = "templates", default_value = DEFAULT_SEED_TEMPLATES)]
     seed_templates: PathBuf,
-    /// The template library whose nearest plans seed a second attempt
+    /// The template library whose nearest plans seed a miss's retries
     /// (`dataset_gen grow-templates`; default
     /// artifacts/templates_grown.json, or none with --seed-templates none),
     /// where the first misses the design by more than the settings'
@@ -97,7 +97,7 @@ struct Args {
 const DEFAULT_TASK_NETWORK: &str = "artifacts/task_network/seed_1.json";
 /// The templates that seed it too (the chained library's plans).
 const DEFAULT_SEED_TEMPLATES: &str = "artifacts/templates.json";
-/// The templates that seed a second attempt (those, grown).
+/// The templates that seed a miss's retries (those, grown).
 const DEFAULT_RETRY_TEMPLATES: &str = "artifacts/templates_grown.json";
 
 #[derive(Debug, Clone, Copy, ValueEnum)]

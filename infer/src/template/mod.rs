@@ -133,7 +133,7 @@ impl Template {
 }
 
 /// The templates a plan carries over as seeds: the nearest of `first` in
-/// its first attempt, of `retry` in its second
+/// its first attempt, of `retry` in its retries
 /// ([`TemplateSettings::retry`]).
 ///
 /// Why two sets: a retry from the first attempt's seeds with the same
@@ -231,7 +231,7 @@ pub struct TemplateWork {
     /// Digs of the last plan if it succeeded, else 0.
     planned: usize,
     seed: usize,
-    /// Whether the last plan is its second attempt's.
+    /// Whether the last plan came from a retry.
     retried: bool,
     /// Whether the last plan's refit moved the skews.
     skew: bool,

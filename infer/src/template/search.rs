@@ -42,7 +42,7 @@ enum Source<'s, 'n> {
 }
 
 impl<'s, 'n> Source<'s, 'n> {
-    /// Where a second attempt's seeds come from.
+    /// Where a retry's seeds come from.
     fn for_retry(self) -> Self {
         match self {
             Source::Templates(t) => Source::Templates(SeedTemplates::same(t.retry)),
@@ -73,7 +73,7 @@ pub(super) struct Seeds {
 impl TemplateWork {
     /// Plans `task` from the nearest of `templates` (of
     /// [`SeedTemplates::first`], and of [`SeedTemplates::retry`] in a
-    /// second attempt): see the module doc. On success the digs are read
+    /// retry): see the module doc. On success the digs are read
     /// with [`Self::dig`].
     pub fn plan(
         &mut self,
@@ -105,7 +105,7 @@ impl TemplateWork {
     /// [`Self::plan_learned`], the nearest of `templates` (up to
     /// [`TemplateSettings::neighbours`], and [`MAX_NEIGHBOURS`] seeds in
     /// all) carried over as seeds too: of [`SeedTemplates::first`] in the
-    /// first attempt, of [`SeedTemplates::retry`] in a second. Why: the
+    /// first attempt, of [`SeedTemplates::retry`] in a retry. Why: the
     /// network interpolates between the library's tasks, and where it
     /// misses (a seed of the expected count whose refit stays
     /// infeasible), a stored plan of a near task often holds; the refit

@@ -77,7 +77,7 @@ impl TemplateWork {
         self.seed
     }
 
-    /// Whether the last plan is its second attempt's
+    /// Whether the last plan came from a retry
     /// ([`super::TemplateSettings::retry`]).
     pub fn retried(&self) -> bool {
         self.retried
