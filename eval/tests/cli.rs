@@ -18,6 +18,12 @@ fn bad_input_exits_with_2() {
     // Missing task networks stop the pipeline before it makes its folder.
     let untouched = std::env::temp_dir().join(format!("eval-untouched-{}", std::process::id()));
     let untouched = untouched.to_str().unwrap();
+    // A plan whose first dig records a volume it does not carve.
+    let tampered = std::env::temp_dir().join(format!("eval-plan-{}.json", std::process::id()));
+    let mut plan = plan_a();
+    plan["digs"][0]["report"]["volume"] = 1.0.into();
+    std::fs::write(&tampered, plan.to_string()).unwrap();
+    let tampered = tampered.to_str().unwrap();
     for args in [
         &["compare", "--networks", "/nonexistent"][..],
         &["learned", "--dig-networks", "/nonexistent"],
@@ -40,6 +46,9 @@ fn bad_input_exits_with_2() {
             "same",
         ],
         &["learned", "--retry-templates", "/nonexistent"],
+        &["against-pso", "/nonexistent"],
+        &["against-pso", "artifacts/learned/report.json"],
+        &["against-pso", tampered],
         &[
             "same-figures",
             "/nonexistent",
@@ -64,6 +73,52 @@ fn bad_input_exits_with_2() {
         assert!(err.starts_with("error: "), "{args:?}: {err}");
     }
     assert!(!Path::new(untouched).exists());
+}
+
+/// The shipped plan of task A, as JSON.
+fn plan_a() -> serde_json::Value {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/plan_task_A.json");
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+#[test]
+fn against_pso_compares_every_dig_of_a_plan() {
+    let json = std::env::temp_dir().join(format!("eval-against-{}.json", std::process::id()));
+    let out = eval()
+        .args([
+            "--no-progress",
+            "against-pso",
+            "--label",
+            "shipped A",
+            "--json",
+        ])
+        .arg(&json)
+        .arg("artifacts/plan_task_A.json")
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("| shipped A | guard | "), "{stdout}");
+    let row: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let digs = plan_a()["digs"].as_array().unwrap().clone();
+    assert_eq!(row["digs"].as_u64(), Some(digs.len() as u64));
+    // Where PSO answers every dig, the plan's mean is its digs' own.
+    let guarded = &row["guarded"];
+    assert_eq!(guarded["compared"].as_u64(), Some(digs.len() as u64));
+    let own = digs
+        .iter()
+        .map(|d| d["report"]["objective"].as_f64().unwrap())
+        .sum::<f64>()
+        / digs.len() as f64;
+    let mean = guarded["planner_objective"].as_f64().unwrap();
+    assert!((mean - own).abs() < 1e-12, "{mean} against {own}");
+    let ratio = guarded["ratio"].as_f64().unwrap();
+    assert!(ratio.is_finite() && ratio > 0.0, "{ratio}");
 }
 
 #[test]

@@ -253,6 +253,23 @@ enum Command {
         #[arg(long, default_value = "artifacts/templates.json")]
         templates: String,
     },
+    /// Any plans' digs (plan files as `plan` or `dataset_gen
+    /// optimise-task` write them) against PSO held to the same design
+    /// guard, as `learned` measures the learned planner's: each dig solved
+    /// again from the same start and end on the same surface, then held
+    /// to the dig's own volume too. Each plan is replayed under the exact
+    /// model first.
+    AgainstPso {
+        /// Plan files (JSON).
+        #[arg(required = true)]
+        plans: Vec<PathBuf>,
+        /// The row's name in the table.
+        #[arg(long, default_value = "plans")]
+        label: String,
+        /// Also write the figures as JSON here.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
     /// Whether a rerun reproduced a committed JSON report: every value
     /// compared but the wall-clock ones (timings, rates, the host). Exits
     /// with 1 and lists the values that differ, if any.
@@ -493,6 +510,9 @@ fn run(cli: Cli) -> Result<ExitCode, EvalError> {
             benchmarks::write(&out, &s)?;
             print!("{}", benchmarks::markdown(&s));
         }
+        Command::AgainstPso { plans, label, json } => {
+            against_pso(&plans, &label, json.as_deref(), progress)?
+        }
         Command::SameFigures {
             committed,
             rerun,
@@ -500,6 +520,33 @@ fn run(cli: Cli) -> Result<ExitCode, EvalError> {
         } => return same_figures(&committed, &rerun, show),
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// `eval against-pso`: see [`Command::AgainstPso`].
+fn against_pso(
+    paths: &[PathBuf],
+    label: &str,
+    json: Option<&std::path::Path>,
+    progress: bool,
+) -> Result<(), EvalError> {
+    let planner = infer::Planner::new(&infer::Config::default(), &Default::default())?;
+    let mut plans = Vec::with_capacity(paths.len());
+    for path in paths {
+        let plan: infer::plan::Plan = read_json(path)?;
+        plan.verify(&planner).map_err(|e| {
+            EvalError::BadArgument(format!("{}: does not verify: {e}", path.display()))
+        })?;
+        plans.push((path.display().to_string(), plan));
+    }
+    let digs = plans.iter().map(|(_, p)| p.digs.len()).sum::<usize>();
+    let bar = dataset_gen::jobs::progress_bar(digs as u64, "digs", progress);
+    let row = eval::learned::against_pso(&planner, label, &plans, &Baseline::pso(), &bar)?;
+    bar.finish_and_clear();
+    if let Some(path) = json {
+        eval::error::write_json(path, &row)?;
+    }
+    print!("{}", eval::learned::pso_markdown(&[row]));
+    Ok(())
 }
 
 /// `eval same-figures`: see [`Command::SameFigures`].

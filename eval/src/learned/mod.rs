@@ -13,7 +13,7 @@ mod pso;
 mod report;
 
 pub use judged::{Judged, load_networks, tasks};
-pub use pso::{AgainstPso, against_pso, replayed_steps};
+pub use pso::{AgainstPso, against_pso, markdown as pso_markdown, replayed_steps};
 
 use crate::baselines::Baseline;
 use crate::error::EvalError;

@@ -19,6 +19,7 @@ use infer::repair::assess;
 use infer::{CarveBuffer, Ground, Planner};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+use std::fmt::Write as _;
 
 /// Seed of the PSO runs: the same digs get the same runs in every report.
 const SEED: u64 = 26;
@@ -184,4 +185,31 @@ pub fn against_pso(
         guarded: versus(0),
         same_fill: versus(1),
     })
+}
+
+/// The rows as a markdown table, with a paragraph that says how they
+/// were made and what the goal is.
+pub fn markdown(rows: &[AgainstPso]) -> String {
+    let mut out = String::from(
+        "Each dig of the finished plans solved again by PSO 50 × 100 held to the same design guard, from the same start and end on the same surface, in the dig's family (with the skews where it has them); then again held to the dig's own volume too (same fill). Means over the digs where PSO's answer is feasible, and the mean weighted terms of the objective (λ1 T_t time, λ2 E_e energy, λ3 V_v volume left out of the bucket; they sum to the objective). Goal: guarded ≤ 1.02 for every seed.\n\n| planner | PSO held to | digs | compared | mean objective | its terms T / E / V | PSO's | its terms T / E / V | ratio | digs > 2 % above |\n|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    let terms = |t: &[f64; 3]| format!("{:.3} / {:.3} / {:.3}", t[0], t[1], t[2]);
+    for p in rows {
+        for (held, v) in [("guard", &p.guarded), ("guard, same fill", &p.same_fill)] {
+            let _ = writeln!(
+                out,
+                "| {} | {held} | {} | {} | {:.4} | {} | {:.4} | {} | {:.4} | {} |",
+                p.planner,
+                p.digs,
+                v.compared,
+                v.planner_objective,
+                terms(&v.planner_terms),
+                v.pso_objective,
+                terms(&v.pso_terms),
+                v.ratio,
+                v.above_2_percent
+            );
+        }
+    }
+    out
 }

@@ -2,7 +2,7 @@
 //! figures, every planner's totals, the digs against guarded PSO, the
 //! tasks each planner misses and the constraints its unmade plans broke.
 
-use super::{LearnedReport, LearnedRow, SeedTotals, within_3_percent};
+use super::{LearnedReport, LearnedRow, SeedTotals, pso, within_3_percent};
 use crate::error::{EvalError, write_file, write_json};
 use crate::seeds::{Figure, Unit, table};
 use std::fmt::Write as _;
@@ -192,28 +192,7 @@ impl LearnedReport {
             );
         }
         if !self.pso.is_empty() {
-            let _ = writeln!(
-                out,
-                "\nEach dig of a network's finished plans solved again by PSO 50 × 100 held to the same design guard, from the same start and end on the same surface, in the dig's family (with the skews where it has them); then again held to the dig's own volume too (same fill). Means over the digs where PSO's answer is feasible, and the mean weighted terms of the objective (λ1 T_t time, λ2 E_e energy, λ3 V_v volume left out of the bucket; they sum to the objective). Goal: guarded ≤ 1.02 for every seed.\n\n| planner | PSO held to | digs | compared | mean objective | its terms T / E / V | PSO's | its terms T / E / V | ratio | digs > 2 % above |\n|---|---|---|---|---|---|---|---|---|---|"
-            );
-            let terms = |t: &[f64; 3]| format!("{:.3} / {:.3} / {:.3}", t[0], t[1], t[2]);
-            for p in &self.pso {
-                for (held, v) in [("guard", &p.guarded), ("guard, same fill", &p.same_fill)] {
-                    let _ = writeln!(
-                        out,
-                        "| {} | {held} | {} | {} | {:.4} | {} | {:.4} | {} | {:.4} | {} |",
-                        p.planner,
-                        p.digs,
-                        v.compared,
-                        v.planner_objective,
-                        terms(&v.planner_terms),
-                        v.pso_objective,
-                        terms(&v.pso_terms),
-                        v.ratio,
-                        v.above_2_percent
-                    );
-                }
-            }
+            let _ = write!(out, "\n{}", pso::markdown(&self.pso));
         }
         let misses: Vec<(&str, String)> = self
             .misses()
