@@ -298,6 +298,52 @@ fn error(plan: &infer::plan::Plan) -> f64 {
     plan.metrics.under_dug + plan.metrics.over_dug
 }
 
+/// A library searched with its digs' objective weighed in is repaired
+/// with the same weight: the same plans under a manifest that weighs the
+/// objective are searched again into other plans.
+#[test]
+fn a_repair_weighs_the_objective_as_its_library_did() {
+    let p = planner();
+    let (plain, weighed) = (temp_dir("weight-plain"), temp_dir("weight-weighed"));
+    let short = LibrarySettings {
+        sequence: SequenceSettings {
+            iterations: 80,
+            restarts: 1,
+            polish: 0,
+            ..small().sequence
+        },
+        ..small()
+    };
+    build(&p, &short, &plain, None).unwrap();
+    std::fs::create_dir_all(&weighed).unwrap();
+    for i in 0..2 {
+        std::fs::copy(entry_path(&plain, i), entry_path(&weighed, i)).unwrap();
+    }
+    let manifest = LibrarySettings {
+        sequence: SequenceSettings {
+            weight_objective: 1.0,
+            ..short.sequence
+        },
+        ..short
+    };
+    std::fs::write(
+        weighed.join(dataset_gen::library::MANIFEST),
+        serde_json::to_string(&manifest).unwrap(),
+    )
+    .unwrap();
+    let settings = RepairSettings {
+        above: 1e-6,
+        sequence: small().sequence,
+    };
+    let (a, b) = (temp_dir("weight-plain-out"), temp_dir("weight-weighed-out"));
+    repair(&p, &plain, &a, &settings, None).unwrap();
+    repair(&p, &weighed, &b, &settings, None).unwrap();
+    assert!(
+        (0..2).any(|i| plan_at(&a, i) != plan_at(&b, i)),
+        "the weight changed no plan"
+    );
+}
+
 #[test]
 fn a_repair_searches_again_the_plans_that_miss_and_keeps_the_closer() {
     let p = planner();

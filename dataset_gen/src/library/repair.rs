@@ -30,8 +30,9 @@ pub struct RepairSettings {
     /// A plan is searched again if its under- or over-dug area is above
     /// this fraction of the design area.
     pub above: f64,
-    /// The cold search; its dig count is each plan's own, its skews the
-    /// library's.
+    /// The cold search; its dig count is each plan's own, its skews and
+    /// the weight of its digs' objective the library's (a library
+    /// searched for fast digs is repaired with fast digs).
     pub sequence: SequenceSettings,
 }
 
@@ -158,6 +159,7 @@ pub fn repair(
             let search = SequenceSettings {
                 digs: Some(plan.digs.len()),
                 skew: library.skew,
+                weight_objective: manifest.sequence.weight_objective,
                 ..settings.sequence
             };
             let seed = derive_seed(manifest.seed ^ 0x4E9A, index);
