@@ -17,7 +17,7 @@ mod counting;
 use counting::allocations;
 #[path = "common/templates.rs"]
 mod templates;
-use templates::{shipped_templates, unskewed};
+use templates::{fixed_templates, shipped_templates, unskewed};
 
 fn artifact(name: &str) -> String {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -245,7 +245,7 @@ fn a_good_enough_plan_ends_the_search_early_within_its_bounds() {
 #[test]
 fn levenberg_steps_plan_closer_within_the_same_bound() {
     let planner = planner();
-    let templates = shipped_templates();
+    let templates = fixed_templates();
     let seeds = SeedTemplates::same(&templates);
     let on = TemplateSettings {
         max_evaluations: 2400,
@@ -385,7 +385,7 @@ fn a_retry_weighs_the_under_dug_excess_and_never_returns_worse() {
 #[test]
 fn a_plan_outside_the_tolerance_is_retried_and_the_better_kept() {
     let p = planner();
-    let templates = shipped_templates();
+    let templates = fixed_templates();
     let task = TrenchTask::reference('C').unwrap();
     let once = TemplateSettings {
         neighbours: 2,
@@ -504,7 +504,7 @@ fn a_plan_outside_the_tolerance_is_retried_and_the_better_kept() {
 #[test]
 fn the_bound_a_settled_refit_leaves_goes_on_and_never_makes_a_plan_worse() {
     let p = planner();
-    let templates = shipped_templates();
+    let templates = fixed_templates();
     let task = TrenchTask {
         far_edge: 1.006_049_375_127_132_4,
         ..TrenchTask::new_deg(

@@ -92,7 +92,8 @@ pub struct TemplateSettings {
     /// often leaves material. The earlier retries keep the expected count:
     /// a dig more in the second lost network 3's F13 of fresh seed 11.
     /// `[0, 0, 1]` against two retries over `eval learned`'s tasks, fresh
-    /// seeds 11–15 and three networks (2026-12-07, Intel Xeon): 19 misses
+    /// seeds 11–15 and the three networks shipped until the library's
+    /// rebuild (2026-12-07, Intel Xeon): 19 misses
     /// of 960 against 20 (network 2's F02 3.71 → 2.05 % under-dug, in five
     /// digs from a grown template), every other plan the same; from the
     /// network's seeds alone one miss of 960 mended, none lost.

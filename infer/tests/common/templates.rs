@@ -1,4 +1,5 @@
-//! The shipped templates, as they are and in the spec's dig family.
+//! The shipped templates, as they are and in the spec's dig family, and
+//! those shipped before, fixed for the tests.
 
 use infer::Template;
 use infer::sequence::{DigVars, SPEC_VARS};
@@ -15,10 +16,28 @@ pub fn grown_templates() -> Vec<Template> {
     templates_in("templates_grown.json")
 }
 
+/// The templates shipped until 2026-12-07 (`tests/data`), from the
+/// library searched for the profile alone: the tests that need a refit to
+/// take a given path (a retry, Levenberg–Marquardt steps, the leftover
+/// bound) keep their cases on them rather than move with the shipped
+/// templates.
+#[allow(dead_code)] // not every test binary that includes this file needs them
+pub fn fixed_templates() -> Vec<Template> {
+    read_templates(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/templates_2026-12-07.json"),
+    )
+}
+
 fn templates_in(file: &str) -> Vec<Template> {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../artifacts")
-        .join(file);
+    read_templates(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../artifacts")
+            .join(file),
+    )
+}
+
+fn read_templates(path: &std::path::Path) -> Vec<Template> {
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     TemplateFile::from_json(&text).unwrap().templates
 }
