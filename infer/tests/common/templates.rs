@@ -38,7 +38,7 @@ fn templates_in(file: &str) -> Vec<Template> {
 }
 
 fn read_templates(path: &std::path::Path) -> Vec<Template> {
-    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     TemplateFile::from_json(&text).unwrap().templates
 }
 
