@@ -10,12 +10,6 @@ pub fn shipped_templates() -> Vec<Template> {
     templates_in("templates.json")
 }
 
-/// `artifacts/templates_grown.json`: what `plan` retries a miss from.
-#[allow(dead_code)] // not every test binary that includes this file retries
-pub fn grown_templates() -> Vec<Template> {
-    templates_in("templates_grown.json")
-}
-
 /// The templates shipped until 2026-12-07 (`tests/data`), from the
 /// library searched for the profile alone: the tests that need a refit to
 /// take a given path (a retry, Levenberg–Marquardt steps, the leftover
