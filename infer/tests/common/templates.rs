@@ -7,7 +7,9 @@ use infer::template::TemplateFile;
 
 /// `artifacts/templates.json`.
 pub fn shipped_templates() -> Vec<Template> {
-    templates_in("templates.json")
+    read_templates(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../artifacts/templates.json"),
+    )
 }
 
 /// The templates shipped until 2026-12-07 (`tests/data`), from the
@@ -20,14 +22,6 @@ pub fn fixed_templates() -> Vec<Template> {
     read_templates(
         &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("tests/data/templates_2026-12-07.json"),
-    )
-}
-
-fn templates_in(file: &str) -> Vec<Template> {
-    read_templates(
-        &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../artifacts")
-            .join(file),
     )
 }
 
