@@ -190,7 +190,7 @@ impl Planner {
         let mut work = Box::new(TemplateWork::new(self)?);
         work.plan(self, task, templates, settings)?;
         let index = work.seed();
-        let origin = match work.retried() {
+        let origin = match work.from_retry_templates() {
             false => Origin::Template { index },
             true => Origin::RetryTemplate { index },
         };
@@ -220,7 +220,7 @@ impl Planner {
         let clock = std::time::Instant::now();
         let mut work = Box::new(TemplateWork::new(self)?);
         work.plan_learned_with(self, task, network, templates, settings)?;
-        let origin = match (work.seed(), work.retried()) {
+        let origin = match (work.seed(), work.from_retry_templates()) {
             (0, _) => Origin::Network { digs: work.len() },
             (i, false) => Origin::Template { index: i - 1 },
             (i, true) => Origin::RetryTemplate { index: i - 1 },

@@ -254,8 +254,8 @@ fn templates_seed_the_learned_refit_too() {
 }
 
 /// A miss is planned again from the retry's templates: a network whose
-/// every answer is its box's middle, alone in the first attempt, and the
-/// shipped templates in the second. The plan names the retry template it
+/// every answer is its box's middle, alone in the first attempt and the
+/// first retry, and the shipped templates in the later ones. The plan names the retry template it
 /// grew from, replays, and no heap is used.
 #[test]
 fn a_miss_is_retried_from_the_retry_templates() {
@@ -279,7 +279,7 @@ fn a_miss_is_retried_from_the_retry_templates() {
         .unwrap();
     assert_eq!(allocations(), before, "a retried plan allocated");
     assert!(
-        work.retried() && work.seed() > 0,
+        work.from_retry_templates() && work.seed() > 0,
         "the retry's template won"
     );
     assert!(work.evaluations() <= settings.bound());

@@ -6,7 +6,9 @@
 use infer::plan::Plan;
 use infer::repair::assess;
 use infer::sequence::{DIG_VARS, DURATION, bends_of, decode, encode, params_from_bends, query_of};
-use infer::template::{SeedTemplates, TemplateFile, TemplateSettings, TemplateWork};
+use infer::template::{
+    MAX_RETRIES, RetryPool, SeedTemplates, TemplateFile, TemplateSettings, TemplateWork,
+};
 use infer::{
     CarveBuffer, Config, DigType, Ground, PlanError, Planner, PlannerSettings, Template, TrenchTask,
 };
@@ -490,11 +492,18 @@ fn a_plan_outside_the_tolerance_is_retried_and_the_better_kept() {
     assert_eq!(mended.verify(&p).unwrap(), mended.metrics);
     assert!(alone.is_err() || missed(alone.as_ref().unwrap()) > missed(&mended));
     work.plan(&p, &task, seeds, &other).unwrap();
-    assert!(work.retried());
+    assert!(work.from_retry_templates());
     assert_eq!(
         mended.origin,
         Some(infer::plan::Origin::RetryTemplate { index: work.seed() })
     );
+    // Retries told to draw on the first attempt's templates never reach
+    // the retry templates: from the far one alone no plan holds.
+    let first_only = TemplateSettings {
+        retry_pools: [RetryPool::First; MAX_RETRIES],
+        ..other
+    };
+    assert!(p.plan_from_templates(&task, seeds, &first_only).is_err());
 }
 
 /// A refit that settles hands the rest of the bound on (the race's

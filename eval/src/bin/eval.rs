@@ -60,8 +60,8 @@ struct EvalArgs {
     /// by those templates too (default artifacts/task_network); `none`: not run.
     #[arg(long)]
     task_networks: Option<String>,
-    /// The templates a plan that misses is planned again from, by the
-    /// template and learned planners (default
+    /// The templates a plan that misses is planned again from after its
+    /// first retry, by the template and learned planners (default
     /// artifacts/templates_grown.json, written by `dataset_gen
     /// grow-templates`); `same`: those of --templates.
     #[arg(long)]
@@ -193,9 +193,10 @@ enum Command {
         /// learned planner as `plan` seeds it.
         #[arg(long, default_value = "artifacts/templates.json")]
         templates: String,
-        /// Templates a plan that misses is planned again from, as `plan`
-        /// seeds it (default artifacts/templates_grown.json; with
-        /// --templates none, none; `same`: --templates).
+        /// Templates a plan that misses is planned again from after its
+        /// first retry, as `plan` seeds it (default
+        /// artifacts/templates_grown.json; with --templates none, none;
+        /// `same`: --templates).
         #[arg(long)]
         retry_templates: Option<String>,
         /// Folder of the dig networks whose greedy planner is compared

@@ -373,27 +373,37 @@ mod tests {
 
     #[test]
     fn a_planners_name_says_its_bound_and_any_retry() {
+        use infer::template::RetryPool::{First, Retry};
         let cases = [
-            (0, 1, [0; 3], ""),
-            (19200, 1, [0; 3], ", a miss retried with 19200 evaluations"),
+            (0, 1, [0; 3], [First; 3], ""),
+            (
+                19200,
+                1,
+                [0; 3],
+                [Retry; 3],
+                ", a miss retried with 19200 evaluations",
+            ),
             (
                 19200,
                 2,
                 [0; 3],
-                ", a miss retried up to 2 × with 19200 evaluations",
+                [Retry, First, First],
+                ", a miss retried up to 2 × with 19200 evaluations, retry 2 from the first templates",
             ),
             (
                 19200,
                 3,
                 [0, 2, 1],
-                ", a miss retried up to 3 × with 19200 evaluations, retry 2 in 2 digs more, retry 3 in 1 dig more",
+                [First, Retry, Retry],
+                ", a miss retried up to 3 × with 19200 evaluations, retry 1 from the first templates, retry 2 in 2 digs more, retry 3 in 1 dig more",
             ),
         ];
-        for (retry, retries, retry_more_digs, said) in cases {
+        for (retry, retries, retry_more_digs, retry_pools, said) in cases {
             let s = TemplateSettings {
                 retry,
                 retries,
                 retry_more_digs,
+                retry_pools,
                 ..TemplateSettings::default()
             };
             assert_eq!(

@@ -55,9 +55,10 @@ struct Args {
     #[arg(long, conflicts_with = "templates", default_value = DEFAULT_SEED_TEMPLATES)]
     seed_templates: PathBuf,
     /// The template library whose nearest plans seed a miss's retries
-    /// (`dataset_gen grow-templates`; default
-    /// artifacts/templates_grown.json, or none with --seed-templates none),
-    /// where the first misses the design by more than the settings'
+    /// after the first (`dataset_gen grow-templates`; default
+    /// artifacts/templates_grown.json, or none with --seed-templates none;
+    /// which retry draws on which: the settings' `retry_pools`), where
+    /// the first attempt misses the design by more than the settings'
     /// tolerance, or `same` for the first's (--templates or
     /// --seed-templates)
     #[arg(long)]

@@ -42,7 +42,7 @@ pub use file::TemplateFile;
 pub use learned::TaskNetwork;
 #[cfg(feature = "std")]
 pub use learned::TaskNetworkFile;
-pub use settings::{MAX_RETRIES, RetryLabel, TemplateSettings};
+pub use settings::{MAX_RETRIES, RetryLabel, RetryPool, TemplateSettings};
 
 use crate::config::Config;
 use crate::error::Error;
@@ -133,11 +133,11 @@ impl Template {
 }
 
 /// The templates a plan carries over as seeds: the nearest of `first` in
-/// its first attempt, of `retry` in its retries
-/// ([`TemplateSettings::retry`]).
+/// its first attempt, of `first` or `retry` in each retry
+/// ([`TemplateSettings::retry_pools`]).
 ///
 /// Why two sets: a retry from the first attempt's seeds with the same
-/// bound runs the same race again. The shipped templates grown by the
+/// bound and value runs the same race again. The shipped templates grown by the
 /// learned planner's own plans of fresh tasks (`dataset_gen
 /// grow-templates`) seed a first attempt worse than the shipped ones
 /// (more misses, though a lower mean) but a retry better, from basins the
@@ -231,8 +231,8 @@ pub struct TemplateWork {
     /// Digs of the last plan if it succeeded, else 0.
     planned: usize,
     seed: usize,
-    /// Whether the last plan came from a retry.
-    retried: bool,
+    /// Whether the last plan's seed is one of the retry templates.
+    from_retry_templates: bool,
     /// Whether the last plan's refit moved the skews.
     skew: bool,
     /// The seeds in the race, each refit's best and the directions and

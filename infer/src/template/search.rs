@@ -5,8 +5,9 @@
 
 use super::learned::TaskNetwork;
 use super::{
-    Champion, EXCESS_MARGIN, Excess, MAX_TEMPLATE_DIGS, MIN_EVALUATIONS, Played, SeedTemplates,
-    Steps, Template, TemplateSettings, TemplateWork, WINDOW, WINDOW_AFTER, WINDOW_BEFORE,
+    Champion, EXCESS_MARGIN, Excess, MAX_TEMPLATE_DIGS, MIN_EVALUATIONS, Played, RetryPool,
+    SeedTemplates, Steps, Template, TemplateSettings, TemplateWork, WINDOW, WINDOW_AFTER,
+    WINDOW_BEFORE,
 };
 use crate::config::Config;
 use crate::planner::{PlanError, Planner};
@@ -42,11 +43,15 @@ enum Source<'s, 'n> {
 }
 
 impl<'s, 'n> Source<'s, 'n> {
-    /// Where a retry's seeds come from.
-    fn for_retry(self) -> Self {
+    /// Where a retry's seeds come from: the templates of `pool`.
+    fn for_retry(self, pool: RetryPool) -> Self {
+        let of = |t: SeedTemplates<'s>| match pool {
+            RetryPool::First => SeedTemplates::same(t.first),
+            RetryPool::Retry => SeedTemplates::same(t.retry),
+        };
         match self {
-            Source::Templates(t) => Source::Templates(SeedTemplates::same(t.retry)),
-            Source::Network(net, t) => Source::Network(net, SeedTemplates::same(t.retry)),
+            Source::Templates(t) => Source::Templates(of(t)),
+            Source::Network(net, t) => Source::Network(net, of(t)),
         }
     }
 }
@@ -56,8 +61,8 @@ struct Kept {
     plan: Champion,
     stretch: [f64; MAX_TEMPLATE_DIGS],
     dig_evaluations: [usize; MAX_TEMPLATE_DIGS],
-    /// Whether it came from a retry (its seed one of the retry's templates).
-    retried: bool,
+    /// Whether its seed is one of the retry templates.
+    from_retry_templates: bool,
 }
 
 /// What the seeds' search hands on: the best refit of a seed by value
@@ -124,8 +129,8 @@ impl TemplateWork {
     /// One attempt ([`Self::attempt`]), and while its plan misses the
     /// design by more than [`TemplateSettings::tolerance`] (or there is
     /// none), up to [`TemplateSettings::retries`] more, each with
-    /// [`TemplateSettings::retry`] evaluations, its own race share and
-    /// dig count, and the under-dug excess counted
+    /// [`TemplateSettings::retry`] evaluations, its own templates, race
+    /// share and dig count, and the under-dug excess counted
     /// ([`TemplateSettings::retry_excess`]); the best plan is kept.
     fn plan_from(
         &mut self,
@@ -135,7 +140,7 @@ impl TemplateWork {
         settings: &TemplateSettings,
     ) -> Result<(), PlanError> {
         settings.validate(planner.config())?;
-        self.retried = false;
+        self.from_retry_templates = false;
         self.excess = Excess::default();
         let mut outcome = self.attempt(planner, task, source, settings, 0);
         if settings.retry == 0 {
@@ -144,8 +149,9 @@ impl TemplateWork {
         let again = settings
             .retry_seed_shares
             .iter()
-            .zip(settings.retry_more_digs);
-        for (&seed_share, more_digs) in again.take(settings.retries) {
+            .zip(settings.retry_more_digs)
+            .zip(settings.retry_pools);
+        for ((&seed_share, more_digs), pool) in again.take(settings.retries) {
             if outcome.is_ok() && self.within(settings.tolerance) {
                 break;
             }
@@ -155,25 +161,25 @@ impl TemplateWork {
                 task,
                 source,
                 settings,
-                (seed_share, more_digs),
+                (seed_share, more_digs, pool),
                 made,
             );
         }
         outcome
     }
 
-    /// A retry of the plan made (`made`: there is one) with the retry's
-    /// templates, the retry's bound, and its `seed_share` and `more_digs`
-    /// ([`TemplateSettings::retry_more_digs`]); the retried plan is
-    /// kept if it is within the tolerance or, by the first attempt's
-    /// value, better, else the plan made is replayed.
+    /// A retry of the plan made (`made`: there is one) with the templates
+    /// of its `pool`, the retry's bound, and its `seed_share` and
+    /// `more_digs` ([`TemplateSettings::retry_more_digs`]); the retried
+    /// plan is kept if it is within the tolerance or, by the first
+    /// attempt's value, better, else the plan made is replayed.
     fn retry(
         &mut self,
         planner: &Planner,
         task: &TrenchTask,
         source: Source<'_, '_>,
         settings: &TemplateSettings,
-        (seed_share, more_digs): (f64, usize),
+        (seed_share, more_digs, pool): (f64, usize, RetryPool),
         made: bool,
     ) -> Result<(), PlanError> {
         // Valued as a first attempt values a plan: a retried one's value
@@ -185,7 +191,7 @@ impl TemplateWork {
             },
             stretch: self.stretch,
             dig_evaluations: self.dig_evaluations,
-            retried: self.retried,
+            from_retry_templates: self.from_retry_templates,
         });
         let spent = self.evaluations;
         // The kept plan's replay comes out of the retry's bound (at least
@@ -200,7 +206,7 @@ impl TemplateWork {
             weight: settings.retry_excess,
             from: (settings.tolerance - EXCESS_MARGIN).max(0.0),
         };
-        let retried = self.attempt(planner, task, source.for_retry(), &again, more_digs);
+        let retried = self.attempt(planner, task, source.for_retry(pool), &again, more_digs);
         self.evaluations += spent;
         let retried_better = retried.is_ok()
             && (self.within(settings.tolerance)
@@ -213,13 +219,13 @@ impl TemplateWork {
                 self.replay(planner, &k.plan, settings);
                 self.stretch = k.stretch;
                 self.dig_evaluations = k.dig_evaluations;
-                self.retried = k.retried;
+                self.from_retry_templates = k.from_retry_templates;
                 self.check(planner)?;
                 self.planned = self.best.count;
                 Ok(())
             }
             _ => {
-                self.retried = true;
+                self.from_retry_templates = pool == RetryPool::Retry;
                 retried
             }
         }

@@ -9,6 +9,17 @@ use crate::sequence::MAX_NEIGHBOURS;
 use core::fmt;
 use serde::{Deserialize, Serialize};
 
+/// Where a retry's seed templates come from
+/// ([`TemplateSettings::retry_pools`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RetryPool {
+    /// The first attempt's ([`SeedTemplates::first`](super::SeedTemplates::first)).
+    First,
+    /// The retry templates ([`SeedTemplates::retry`](super::SeedTemplates::retry)).
+    Retry,
+}
+
 /// Retries of a plan that misses, at most ([`TemplateSettings::retries`]).
 pub const MAX_RETRIES: usize = 3;
 
@@ -98,6 +109,16 @@ pub struct TemplateSettings {
     /// digs from a grown template), every other plan the same; from the
     /// network's seeds alone one miss of 960 mended, none lost.
     pub retry_more_digs: [usize; MAX_RETRIES],
+    /// Which templates each retry's seeds are drawn from, in order, beside
+    /// the network's sequences: the first attempt's or the retry
+    /// templates (`--retry-templates`, the grown ones). Why both: the
+    /// basin a retry settles in follows from its seeds, and two kinds of
+    /// seed reach more basins than one (the first retry's race differs
+    /// from the first attempt's by the under-dug excess it counts). Over
+    /// `eval learned`'s tasks, fresh seeds 12–15 and three networks
+    /// (2026-12-08, Intel Xeon): 30 misses of 960 against 34 with every
+    /// retry from the grown templates; see the crate's README.
+    pub retry_pools: [RetryPool; MAX_RETRIES],
     /// The under- and over-dug fractions of the design a plan may leave
     /// before it is retried.
     pub tolerance: f64,
@@ -174,6 +195,7 @@ impl Default for TemplateSettings {
             retries: 3,
             retry_seed_shares: [0.7, 0.9, 0.9],
             retry_more_digs: [0, 0, 1],
+            retry_pools: [RetryPool::First, RetryPool::Retry, RetryPool::Retry],
             tolerance: 0.03,
             screen_samples: 65,
             leftover: true,
@@ -239,8 +261,9 @@ impl TemplateSettings {
 }
 
 /// [`TemplateSettings`]' retries in words ([`TemplateSettings::retry_label`]):
-/// "a miss retried up to 3 × with 9600 evaluations, retry 3 in 1 dig
-/// more"; empty where there is no retry.
+/// "a miss retried up to 3 × with 9600 evaluations, retry 1 from the
+/// first templates, retry 3 in 1 dig more"; empty where there is no
+/// retry.
 #[derive(Debug)]
 pub struct RetryLabel<'s>(&'s TemplateSettings);
 
@@ -252,10 +275,15 @@ impl fmt::Display for RetryLabel<'_> {
             (r, 1) => write!(f, "a miss retried with {r} evaluations")?,
             (r, n) => write!(f, "a miss retried up to {n} × with {r} evaluations")?,
         }
-        let more = s.retry_more_digs.iter().take(s.retries).enumerate();
-        for (i, &m) in more.filter(|(_, m)| **m > 0) {
-            let digs = if m == 1 { "dig" } else { "digs" };
-            write!(f, ", retry {} in {m} {digs} more", i + 1)?;
+        let each = s.retry_more_digs.iter().zip(s.retry_pools).take(s.retries);
+        for (i, (&m, pool)) in each.enumerate() {
+            if pool == RetryPool::First {
+                write!(f, ", retry {} from the first templates", i + 1)?;
+            }
+            if m > 0 {
+                let digs = if m == 1 { "dig" } else { "digs" };
+                write!(f, ", retry {} in {m} {digs} more", i + 1)?;
+            }
         }
         Ok(())
     }

@@ -40,7 +40,7 @@ impl TemplateWork {
             retime: RetimeWork::default(),
             planned: 0,
             seed: 0,
-            retried: false,
+            from_retry_templates: false,
             skew: false,
             racers: [None; MAX_NEIGHBOURS],
             design_heights: [0.0; WINDOW],
@@ -72,15 +72,15 @@ impl TemplateWork {
     /// Index (into the templates given) of the template the last plan grew
     /// from; for a learned plan, 0 for the network's sequence and i + 1
     /// for template i (of
-    /// [`super::SeedTemplates::retry`] if [`Self::retried`]).
+    /// [`super::SeedTemplates::retry`] if [`Self::from_retry_templates`]).
     pub fn seed(&self) -> usize {
         self.seed
     }
 
-    /// Whether the last plan came from a retry
-    /// ([`super::TemplateSettings::retry`]).
-    pub fn retried(&self) -> bool {
-        self.retried
+    /// Whether the last plan's seed is one of the retry templates (a
+    /// retry from them won, [`super::TemplateSettings::retry_pools`]).
+    pub fn from_retry_templates(&self) -> bool {
+        self.from_retry_templates
     }
 
     pub fn design(&self) -> &DesignProfile {
