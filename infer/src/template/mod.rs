@@ -141,7 +141,7 @@ impl Template {
 /// learned planner's own plans of fresh tasks (`dataset_gen
 /// grow-templates`) seed a first attempt worse than the shipped ones
 /// (more misses, though a lower mean) but a retry better, from basins the
-/// first did not reach (the crate's README).
+/// first did not reach (`infer/docs/trench_planners.md`).
 #[derive(Debug, Clone, Copy)]
 pub struct SeedTemplates<'a> {
     pub first: &'a [Template],

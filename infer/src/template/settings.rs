@@ -79,8 +79,9 @@ pub struct TemplateSettings {
     /// than `tolerance` (or that found no plan); the best plan is kept, so
     /// a task takes at most [`Self::bound`]. 0: none. A second race ends
     /// in other basins, most of all from other seeds
-    /// ([`SeedTemplates::retry`](super::SeedTemplates::retry)), so it mends some misses: see the
-    /// crate's README for the default's figures.
+    /// ([`SeedTemplates::retry`](super::SeedTemplates::retry)), so it
+    /// mends some misses: see `infer/docs/trench_planners.md` for the
+    /// default's figures.
     pub retry: usize,
     /// Retries at most (1 to [`MAX_RETRIES`]), each only while the plan
     /// still misses.
@@ -92,7 +93,7 @@ pub struct TemplateSettings {
     /// next), and a race that looks longer at each seed before choosing
     /// lands elsewhere. Over `eval learned`'s tasks, fresh seeds 11–13 and
     /// three networks (2026-12-07, Intel Xeon), `[0.7, 0.9]` against one
-    /// retry at 0.7: see the crate's README. The third's 0.9 too.
+    /// retry at 0.7: see `infer/docs/trench_planners.md`. The third's 0.9 too.
     pub retry_seed_shares: [f64; MAX_RETRIES],
     /// Digs more than the task's expected count each retry's seeds are
     /// drawn about, in order: the network's sequences in that count, one
@@ -117,7 +118,7 @@ pub struct TemplateSettings {
     /// from the first attempt's by the under-dug excess it counts). Over
     /// `eval learned`'s tasks, fresh seeds 12–15 and three networks
     /// (2026-12-08, Intel Xeon): 30 misses of 960 against 34 with every
-    /// retry from the grown templates; see the crate's README.
+    /// retry from the grown templates; see `infer/docs/trench_planners.md`.
     pub retry_pools: [RetryPool; MAX_RETRIES],
     /// The under- and over-dug fractions of the design a plan may leave
     /// before it is retried.
