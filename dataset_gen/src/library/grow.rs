@@ -6,10 +6,11 @@
 //! Why: the shipped templates are a thousand library tasks' plans, and a
 //! task whose nearest plans lie in the wrong basins stays there. The
 //! planner's own plans of thousands more tasks fill the space between
-//! them; as seeds of a second attempt, where the first misses, they mend
+//! them; as seeds of a retry, where the first attempt misses, they mend
 //! most of what a retry from the shipped ones alone does not
 //! (`eval/experiments.md`, 2026-12-06). The first attempt keeps the
-//! shipped ones: from the grown set it misses more tasks.
+//! shipped ones (from the grown set it misses more tasks), and so does
+//! the first retry; the later retries draw on these (2026-12-08).
 
 use super::{record_or_check, write_whole};
 use crate::error::Error;

@@ -137,11 +137,11 @@ impl Template {
 /// ([`TemplateSettings::retry_pools`]).
 ///
 /// Why two sets: a retry from the first attempt's seeds with the same
-/// bound and value runs the same race again. The shipped templates grown by the
-/// learned planner's own plans of fresh tasks (`dataset_gen
+/// bound and value runs the same race again. The shipped templates
+/// grown by the learned planner's own plans of fresh tasks (`dataset_gen
 /// grow-templates`) seed a first attempt worse than the shipped ones
-/// (more misses, though a lower mean) but a retry better, from basins the
-/// first did not reach (`infer/docs/trench_planners.md`).
+/// (more misses, though a lower mean) but a retry better, from basins
+/// the first did not reach (`infer/docs/trench_planners.md`).
 #[derive(Debug, Clone, Copy)]
 pub struct SeedTemplates<'a> {
     pub first: &'a [Template],
