@@ -25,6 +25,11 @@ fn bad_input_exits_with_2() {
         &["generate", "--types", "sideways", "--out", out],
         &["generate", "--shard", "3/2", "--out", out],
         &["optimise-task", "--task", "Z", "--out", out],
+        &["library", "--lengths", "0.5", "--out", out],
+        &["library", "--lengths", "0.5,0.4", "--out", out],
+        &["library", "--lengths", "0,0.4", "--out", out],
+        &["library", "--lengths", "0.4,inf", "--out", out],
+        &["library", "--lengths", "0.4,NaN", "--out", out],
         &[
             "library-repair",
             "--library",

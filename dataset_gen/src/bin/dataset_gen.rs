@@ -202,6 +202,11 @@ enum Command {
         /// 30–75°, far edge 0.98–1.10 m).
         #[arg(long)]
         wide: bool,
+        /// Top lengths L drawn from instead, "MIN,MAX" in metres (e.g.
+        /// 0.40,0.52: short trenches only, where plans of nearby tasks
+        /// differ most).
+        #[arg(long)]
+        lengths: Option<String>,
         /// Build only the tasks of shard k of n (0-based, task i in shard
         /// i mod n), e.g. 0/4, in a folder the shards share; `library-merge` joins them.
         #[arg(long)]
@@ -567,6 +572,7 @@ fn main_inner() -> Result<(), Error> {
             tasks,
             seed,
             wide,
+            lengths,
             shard,
             anchors,
             neighbours,
@@ -582,14 +588,18 @@ fn main_inner() -> Result<(), Error> {
             let shard = shard.as_deref().map(str::parse::<Shard>).transpose()?;
             let shard = shard.unwrap_or(Shard::ALL);
             let wave: library::Wave = wave.parse()?;
+            let mut ranges = if wide {
+                infer::trench::RandomRanges::WIDE
+            } else {
+                infer::trench::RandomRanges::default()
+            };
+            if let Some(l) = lengths {
+                ranges.length = parse_lengths(&l)?;
+            }
             let settings = library::LibrarySettings {
                 tasks,
                 seed,
-                ranges: if wide {
-                    infer::trench::RandomRanges::WIDE
-                } else {
-                    Default::default()
-                },
+                ranges,
                 sequence: sequence.settings()?,
                 anchors,
                 warm: WarmSettings {
@@ -760,5 +770,22 @@ fn main() -> std::process::ExitCode {
             eprintln!("error: {e}");
             std::process::ExitCode::from(2)
         }
+    }
+}
+
+/// "MIN,MAX" top lengths in metres, 0 < MIN < MAX, both finite.
+fn parse_lengths(s: &str) -> Result<[f64; 2], Error> {
+    let bad = || {
+        Error::BadArgument(format!(
+            "--lengths {s}: expected MIN,MAX in metres, 0 < MIN < MAX"
+        ))
+    };
+    let (lo, hi) = s.split_once(',').ok_or_else(bad)?;
+    let lo: f64 = lo.trim().parse().map_err(|_| bad())?;
+    let hi: f64 = hi.trim().parse().map_err(|_| bad())?;
+    if lo > 0.0 && lo < hi && hi.is_finite() {
+        Ok([lo, hi])
+    } else {
+        Err(bad())
     }
 }
