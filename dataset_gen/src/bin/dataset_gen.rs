@@ -203,8 +203,8 @@ enum Command {
         #[arg(long)]
         wide: bool,
         /// Top lengths L drawn from instead, "MIN,MAX" in metres (e.g.
-        /// 0.40,0.52: short trenches only, where plans of nearby tasks
-        /// differ most).
+        /// 0.40,0.52: short trenches only, where most of the learned
+        /// planner's misses lie).
         #[arg(long)]
         lengths: Option<String>,
         /// Build only the tasks of shard k of n (0-based, task i in shard
