@@ -249,6 +249,8 @@ pub struct EvalReport {
     /// The dataset every seed's networks were also scored on, if any.
     #[serde(default)]
     pub held_out: Option<HeldOut>,
+    /// Wall clock of the evaluation alone, not a pipeline's dataset and
+    /// training before it.
     pub elapsed_s: f64,
     /// The plans, per task (written as separate files).
     #[serde(skip)]

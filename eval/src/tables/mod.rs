@@ -291,9 +291,9 @@ pub fn markdown(report: &EvalReport, command: &str) -> String {
     let _ = writeln!(out, "# Learned planner against the optimiser baselines\n");
     let _ = writeln!(
         out,
-        "Made by `{command}` in {:.0} s on {} (1-minute load average {:.1} at the start, {:.1} at the end). Networks: `{}`. Seed {}.\n",
-        report.elapsed_s,
+        "Made by `{command}` on {}; the evaluation took {:.0} s (1-minute load average {:.1} at its start, {:.1} at its end; a pipeline's other steps are timed in `pipeline.json`). Networks: `{}`. Seed {}.\n",
         report.machine,
+        report.elapsed_s,
         report.load_average[0],
         report.load_average[1],
         report.networks,
