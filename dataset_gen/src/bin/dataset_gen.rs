@@ -205,8 +205,8 @@ enum Command {
         /// Top lengths L drawn from instead, "MIN,MAX" in metres (e.g.
         /// 0.40,0.52: short trenches only, where most of the learned
         /// planner's misses lie).
-        #[arg(long)]
-        lengths: Option<String>,
+        #[arg(long, value_delimiter = ',')]
+        lengths: Option<Vec<f64>>,
         /// Build only the tasks of shard k of n (0-based, task i in shard
         /// i mod n), e.g. 0/4, in a folder the shards share; `library-merge` joins them.
         #[arg(long)]
@@ -594,7 +594,7 @@ fn main_inner() -> Result<(), Error> {
                 infer::trench::RandomRanges::default()
             };
             if let Some(l) = lengths {
-                ranges.length = parse_lengths(&l)?;
+                ranges.length = length_range(&l)?;
             }
             let settings = library::LibrarySettings {
                 tasks,
@@ -773,19 +773,12 @@ fn main() -> std::process::ExitCode {
     }
 }
 
-/// "MIN,MAX" top lengths in metres, 0 < MIN < MAX, both finite.
-fn parse_lengths(s: &str) -> Result<[f64; 2], Error> {
-    let bad = || {
-        Error::BadArgument(format!(
-            "--lengths {s}: expected MIN,MAX in metres, 0 < MIN < MAX"
-        ))
-    };
-    let (lo, hi) = s.split_once(',').ok_or_else(bad)?;
-    let lo: f64 = lo.trim().parse().map_err(|_| bad())?;
-    let hi: f64 = hi.trim().parse().map_err(|_| bad())?;
-    if lo > 0.0 && lo < hi && hi.is_finite() {
-        Ok([lo, hi])
-    } else {
-        Err(bad())
+/// `--lengths`' two values as a range: 0 < MIN < MAX, both finite.
+fn length_range(l: &[f64]) -> Result<[f64; 2], Error> {
+    match *l {
+        [lo, hi] if lo > 0.0 && lo < hi && hi.is_finite() => Ok([lo, hi]),
+        _ => Err(Error::BadArgument(format!(
+            "--lengths {l:?}: expected MIN,MAX in metres, 0 < MIN < MAX"
+        ))),
     }
 }
